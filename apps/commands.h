@@ -1,0 +1,12 @@
+#pragma once
+// Each subcommand lives in its own cmd_*.cpp and registers itself on the CLI11 app.
+// A registered callback throws simpli::Error on bad input; main() prints it and exits 1.
+namespace CLI {
+class App;
+}
+
+namespace simpli::app {
+void addDevicesCommand(CLI::App& app);
+void addBenchCommand(CLI::App& app);
+void addInfoCommand(CLI::App& app);
+} // namespace simpli::app
