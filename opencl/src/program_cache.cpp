@@ -4,7 +4,31 @@
 #include "simpli/ocl/device.h"
 #include "simpli/ocl/tensor.h"
 
+#include <cstring>
+
 namespace simpli::ocl {
+
+namespace {
+std::map<std::string, const char*>& registeredSources() {
+  static std::map<std::string, const char*> sources;
+  return sources;
+}
+} // namespace
+
+void registerKernelSources(const std::map<std::string, const char*>& sources) {
+  auto& known = registeredSources();
+  for (const auto& [name, text] : sources) {
+    const auto& embedded = embeddedKernelSources();
+    const char* existing = nullptr;
+    if (auto it = embedded.find(name); it != embedded.end())
+      existing = it->second;
+    else if (auto jt = known.find(name); jt != known.end())
+      existing = jt->second;
+    if (existing && std::strcmp(existing, text) != 0)
+      fail("registerKernelSources: program '", name, "' is already registered with other text");
+    known.emplace(name, text);
+  }
+}
 
 ProgramCache::ProgramCache(cl_context context, cl_device_id device, bool deviceHasFp64)
     : context_(context), device_(device), hasFp64_(deviceHasFp64) {}
@@ -24,15 +48,19 @@ cl_program ProgramCache::program(const std::string& programName, Dtype dtype,
 
   const auto& sources = embeddedKernelSources();
   auto common = sources.find("common");
-  auto body = sources.find(programName);
-  if (body == sources.end())
+  const char* bodyText = nullptr;
+  if (auto it = sources.find(programName); it != sources.end())
+    bodyText = it->second;
+  else if (auto jt = registeredSources().find(programName); jt != registeredSources().end())
+    bodyText = jt->second;
+  if (!bodyText)
     fail("OpenCL program '", programName, "' (kernel ", forKernel,
          ") is not embedded: no kernels/", programName, ".cl");
   if (dtype == Dtype::F64 && !hasFp64_)
     fail("kernel ", programName, ".", forKernel,
          ": float64 requested but the device has no cl_khr_fp64 support");
 
-  const char* parts[2] = {common != sources.end() ? common->second : "", body->second};
+  const char* parts[2] = {common != sources.end() ? common->second : "", bodyText};
   cl_int status = CL_SUCCESS;
   cl_program prog = clCreateProgramWithSource(context_, 2, parts, nullptr, &status);
   checkCl(status, "clCreateProgramWithSource");
