@@ -1,10 +1,13 @@
 #include "simpli/ocl/ops_reduce.h"
 
 #include "launch.h"
+#include "row_blocks.h"
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/ops_elementwise.h"
 #include "simpli/ocl/ops_shape.h"
+
+#include <algorithm>
 
 namespace simpli::ocl {
 
@@ -44,15 +47,72 @@ AxisSplit splitAt(const Tensor& x, int axis, const char* op) {
   return r;
 }
 
-Tensor sumAxisRaw(const Tensor& x, const AxisSplit& sp) {
+constexpr int kRedSum = 0;   // RED_SUM in reduce.cl
+constexpr int kRedSqdev = 1; // RED_SQDEV in reduce.cl
+
+/// scale * sum over the axis of x (mean undefined) or of (x - mean)^2 (mean: one value per
+/// (outer, inner) pair); shape sp.keptShape. Picks the kernel layout by shape (reduce.cl): the
+/// direct loop only when there are enough outputs to keep the device busy or the axis is short.
+Tensor axisReduceRaw(const Tensor& x, const AxisSplit& sp, const Tensor& mean, double scale) {
+  const int mode = mean.defined() ? kRedSqdev : kRedSum;
+  const cl_mem meanBuffer = mean.defined() ? mean.buffer() : x.buffer(); // unread for sums
+  const int64_t outputs = static_cast<int64_t>(sp.outer) * sp.inner;
   Tensor out = Tensor::empty(sp.keptShape, x.dtype());
-  Launch("reduce", "reduce_sum_axis", x.dtype())
-      .arg(sp.outer)
-      .arg(sp.n)
-      .arg(sp.inner)
-      .arg(x)
-      .arg(out)
-      .run(static_cast<int64_t>(sp.outer) * sp.inner);
+  Tensor part;
+  int parts = 0;
+  if (sp.inner == 1 && sp.n >= 512) {
+    const RowBlocks rb = rowBlocks(sp.n);
+    parts = rb.groups;
+    part = Tensor::empty({sp.outer, parts}, x.dtype());
+    Launch("reduce", "reduce_blocks", x.dtype())
+        .arg(mode)
+        .arg(sp.n)
+        .arg(rb.perItem)
+        .arg(x)
+        .arg(meanBuffer)
+        .arg(part)
+        .run2(static_cast<int64_t>(rb.groups) * kGroupSize, sp.outer, kGroupSize, 1);
+  } else if (outputs < 4096 && sp.n >= 64) {
+    // ~4096 items in all, each summing at least 16 elements of the axis.
+    const int64_t wanted = std::max<int64_t>(1, 4096 / outputs);
+    const int64_t maxParts = std::max<int64_t>(1, sp.n / 16);
+    const int chunkTry =
+        static_cast<int>((sp.n + std::min(wanted, maxParts) - 1) / std::min(wanted, maxParts));
+    parts = (sp.n + chunkTry - 1) / chunkTry;
+    part = Tensor::empty({sp.outer, parts, sp.inner}, x.dtype());
+    Launch("reduce", "reduce_split", x.dtype())
+        .arg(mode)
+        .arg(sp.outer)
+        .arg(sp.n)
+        .arg(sp.inner)
+        .arg(chunkTry)
+        .arg(parts)
+        .arg(x)
+        .arg(meanBuffer)
+        .arg(part)
+        .run(outputs * parts);
+  }
+  if (part.defined()) {
+    Launch("reduce", "reduce_partials", x.dtype())
+        .arg(sp.outer)
+        .arg(parts)
+        .arg(sp.inner)
+        .real(scale)
+        .arg(part)
+        .arg(out)
+        .run(outputs);
+  } else {
+    Launch("reduce", "reduce_axis", x.dtype())
+        .arg(mode)
+        .arg(sp.outer)
+        .arg(sp.n)
+        .arg(sp.inner)
+        .real(scale)
+        .arg(x)
+        .arg(meanBuffer)
+        .arg(out)
+        .run(outputs);
+  }
   return out;
 }
 
@@ -75,10 +135,9 @@ Tensor sum(const Tensor& x, int axis, bool keepdim) {
   AxisSplit sp = splitAt(x, axis, "sum");
   if (sp.n == 0)
     fail("sum: axis ", axis, " of ", x.describe(), " is empty");
-  Tensor out = sumAxisRaw(x, sp);
-  out = record("sum", out, {x}, [xs = x.shape()](const Tensor& g) {
-    return std::vector<Tensor>{expand(g, xs)};
-  });
+  Tensor out = axisReduceRaw(x, sp, Tensor(), 1.0);
+  out = record("sum", out, {x},
+               [xs = x.shape()](const Tensor& g) { return std::vector<Tensor>{expand(g, xs)}; });
   return keepdim ? out : reshape(out, sp.droppedShape);
 }
 
@@ -95,15 +154,9 @@ Tensor variance(const Tensor& x, int axis, bool unbiased, bool keepdim) {
   if (sp.n - ddof <= 0)
     fail("variance: axis ", axis, " of ", x.describe(), " has ", sp.n,
          " element(s), too few for the ", unbiased ? "unbiased" : "biased", " estimator");
-  Tensor out = Tensor::empty(sp.keptShape, x.dtype());
-  Launch("reduce", "reduce_var_axis", x.dtype())
-      .arg(sp.outer)
-      .arg(sp.n)
-      .arg(sp.inner)
-      .arg(ddof)
-      .arg(x)
-      .arg(out)
-      .run(static_cast<int64_t>(sp.outer) * sp.inner);
+  // Two passes over the data (mean first), so large offsets do not cancel.
+  Tensor m = axisReduceRaw(x, sp, Tensor(), 1.0 / sp.n);
+  Tensor out = axisReduceRaw(x, sp, m, 1.0 / (sp.n - ddof));
   if (needsGrad({x})) {
     Tensor xd = x.detach();
     const int a = normaliseAxis(axis, x.dim(), "variance", x.shape());
@@ -120,18 +173,10 @@ Tensor variance(const Tensor& x, int axis, bool unbiased, bool keepdim) {
 Tensor sumAll(const Tensor& x) {
   if (!x.defined())
     fail("sumAll: undefined tensor");
-  const int n = checkedInt(x.numel(), "sumAll");
-  // Two stages keep the device busy: `parts` strided partial sums, then one final sum.
-  const int parts = n < 4096 ? 1 : 256;
-  Tensor partial = Tensor::empty({parts}, x.dtype());
-  Launch("reduce", "reduce_sum_strided", x.dtype()).arg(n).arg(parts).arg(x).arg(partial).run(
-      parts);
-  Tensor out = partial;
-  if (parts > 1) {
-    out = Tensor::empty({1}, x.dtype());
-    Launch("reduce", "reduce_sum_strided", x.dtype()).arg(parts).arg(1).arg(partial).arg(out).run(
-        1);
-  }
+  AxisSplit sp;
+  sp.n = checkedInt(x.numel(), "sumAll");
+  sp.keptShape = {1};
+  Tensor out = sp.n == 0 ? Tensor::zeros({1}, x.dtype()) : axisReduceRaw(x, sp, Tensor(), 1.0);
   return record("sumAll", out, {x}, [xs = x.shape()](const Tensor& g) {
     return std::vector<Tensor>{expand(g.viewAs(Shape(xs.size(), 1)), xs)};
   });

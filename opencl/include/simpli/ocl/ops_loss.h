@@ -1,0 +1,30 @@
+#pragma once
+// Training losses of the reference (§8.1) and two generic ones. Each returns a one-element
+// tensor (shape [1]) and is differentiable with respect to every input. Inputs must have the
+// same dtype; shape mismatches throw naming the loss and the shapes.
+#include "simpli/ocl/tensor.h"
+
+namespace simpli::ocl {
+
+/// mean |a - b| over all elements (a, b of equal shape). The gradient of |0| is 0.
+Tensor l1Loss(const Tensor& a, const Tensor& b);
+/// mean (a - b)^2 over all elements (a, b of equal shape).
+Tensor mseLoss(const Tensor& a, const Tensor& b);
+
+/// The reference's masked L1: pred and target [N, C, H, W], mask [N, 1, H, W] (shared by all
+/// channels) or [N, C, H, W]. Per image n and channel c:
+///   S = sum_hw |pred - target| * mask,  Z = sum_hw mask + 1e-6,  loss_nc = S / Z,
+/// and the result is the mean of loss_nc over n and c. Differentiable in all three inputs.
+Tensor maskedL1(const Tensor& pred, const Tensor& target, const Tensor& mask);
+
+/// Total variation of x [..., H, W]: mean |x[i+1, j] - x[i, j]| + mean |x[i, j+1] - x[i, j]|,
+/// each mean over all images (leading dims) and pairs. A direction of size 1 has no pairs and
+/// contributes 0.
+Tensor totalVariation(const Tensor& x);
+
+/// The reference's `smooth_layers` loss on depths D [B, L, H, W]:
+///   sqrt(sum (D[i+1, j] - D[i, j])^2 + sum (D[i, j+1] - D[i, j])^2 + 1e-6) / (B * L * H * W),
+/// one global L2 norm of the depth gradients.
+Tensor smoothLayersLoss(const Tensor& depth);
+
+} // namespace simpli::ocl
