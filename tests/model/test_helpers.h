@@ -1,0 +1,31 @@
+#pragma once
+// Assertion helper shared by the model tests.
+#include <simpli/error.h>
+
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+#include <string>
+
+namespace simpli::test {
+
+/// Expects `f` to throw simpli::Error whose message contains every string in `parts`;
+/// returns the message.
+template <typename F> std::string expectError(F&& f, std::initializer_list<std::string> parts) {
+  try {
+    f();
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    for (const std::string& p : parts)
+      EXPECT_NE(msg.find(p), std::string::npos) << "message: " << msg << "\nmissing: " << p;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "message is not one line: " << msg;
+    return msg;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not a simpli::Error: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "no simpli::Error thrown";
+  return {};
+}
+
+} // namespace simpli::test
