@@ -136,6 +136,21 @@ TEST(ProgramCache, BuildsEachProgramOncePerPrecision) {
   EXPECT_THROW(programs.kernel("elementwise", "no_such_kernel", Dtype::F32), Error);
 }
 
+TEST(ProgramCache, BuildFailureShowsProgramKernelAndLog) {
+  auto& programs = ocl::Device::current().programs();
+  try {
+    // A macro that turns a helper's name into a syntax error forces a compile failure.
+    programs.kernel("elementwise", "fill", Dtype::F32, "-Dstable_sigmoid=@@");
+    FAIL() << "expected a build failure";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("elementwise"), std::string::npos) << what;
+    EXPECT_NE(what.find("fill"), std::string::npos) << what;
+    EXPECT_NE(what.find("CL_BUILD_PROGRAM_FAILURE"), std::string::npos) << what;
+    EXPECT_GT(what.size(), 200u) << "the compiler log should be part of the message: " << what;
+  }
+}
+
 TEST(Device, SelectorParsingAndBadIndices) {
   EXPECT_EQ(ocl::Device::parseSelector("1:2", "test"), std::make_pair(1, 2));
   EXPECT_THROW(ocl::Device::parseSelector("x", "SIMPLI_CL_DEVICE"), Error);

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages simpli needs, only those that are missing (a re-run costs
+# one dpkg query). Must run as root (or via sudo). See docs/building.md for what each is for.
+set -euo pipefail
+
+packages=(
+  # toolchain
+  g++ cmake make pkg-config
+  # ParaView's VTK, its Python modules and the plugin SDK (one VTK: ParaView's; see
+  # shared/reference/vtk_paraview_build.md), plus the -dev packages paraview-dev lacks
+  paraview paraview-dev python3-paraview libopenmpi-dev libdouble-conversion-dev
+  libglew-dev libx11-dev libgl-dev libpython3-dev
+  # headless rendering for tests
+  xvfb xauth
+  # OpenCL (PoCL on the CPU), CLBlast and its tuners
+  pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
+  libclblast-dev clblast-utils
+  # libraries
+  libopencv-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libopenblas-dev
+  # tests
+  libgtest-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+if [[ $(id -u) -ne 0 ]]; then
+  SUDO=sudo
+else
+  SUDO=
+fi
+echo "install-deps: installing ${#missing[@]} missing package(s): ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
