@@ -9,4 +9,6 @@ namespace simpli::app {
 void addDevicesCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
+void addMakeSceneCommand(CLI::App& app);
+void addConvertCommand(CLI::App& app);
 } // namespace simpli::app

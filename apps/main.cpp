@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
   simpli::app::addDevicesCommand(app);
   simpli::app::addBenchCommand(app);
   simpli::app::addInfoCommand(app);
+  simpli::app::addMakeSceneCommand(app);
+  simpli::app::addConvertCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
