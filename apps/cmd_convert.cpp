@@ -1,0 +1,85 @@
+// `simpli convert IN OUT [--format jpeg|lossless]`: converts an MLI folder between the
+// reference JPEG form and simpli's lossless float form (model/mli_io.h). The input is read and
+// validated completely before anything is written, and the output folder appears atomically
+// (writeMLI), so a failure leaves no partial OUT and never damages an existing one.
+#include "commands.h"
+
+#include <CLI/CLI.hpp>
+#include <simpli/error.h>
+#include <simpli/model/mli_io.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace simpli::app {
+
+namespace {
+
+struct ConvertOptions {
+  std::string input, output;
+  std::string format = "auto";
+  std::string depthDecoding = "viewer";
+  bool force = false;
+};
+
+const char* formatName(MLIFormat f) {
+  return f == MLIFormat::Lossless ? "lossless" : "jpeg";
+}
+
+void runConvert(const ConvertOptions& o) {
+  namespace fs = std::filesystem;
+  MLIReadOptions readOptions;
+  if (o.depthDecoding == "viewer")
+    readOptions.depthDecoding = MLIDepthDecoding::Viewer;
+  else if (o.depthDecoding == "bin-centre")
+    readOptions.depthDecoding = MLIDepthDecoding::BinCentre;
+  else
+    fail("--depth-decoding: unknown value '", o.depthDecoding, "' (expected viewer or bin-centre)");
+  if (o.format != "auto" && o.format != "jpeg" && o.format != "lossless")
+    fail("--format: unknown value '", o.format, "' (expected jpeg, lossless or auto)");
+
+  // Refuse to replace an existing, non-empty OUT unless asked to (writeMLI itself never
+  // replaces a folder that is not an MLI).
+  std::error_code ec;
+  if (fs::exists(o.output, ec) && !o.force &&
+      !(fs::is_directory(o.output, ec) && fs::is_empty(o.output, ec)))
+    fail("output ", o.output, " already exists (use --force to replace an existing MLI)");
+
+  const MLIFormat inFormat = detectMLIFormat(o.input);
+  const MLI mli = readMLI(o.input, readOptions);
+  // auto: the other form, so that a plain `simpli convert IN OUT` always converts.
+  const MLIFormat outFormat =
+      o.format == "jpeg" ? MLIFormat::Jpeg
+      : o.format == "lossless"
+          ? MLIFormat::Lossless
+          : (inFormat == MLIFormat::Jpeg ? MLIFormat::Lossless : MLIFormat::Jpeg);
+  writeMLI(o.output, mli, outFormat);
+  std::printf("converted %s (%s, %d layers, %d x %d) -> %s (%s)\n", o.input.c_str(),
+              formatName(inFormat), mli.numLayers(), mli.width(), mli.height(), o.output.c_str(),
+              formatName(outFormat));
+}
+
+} // namespace
+
+void addConvertCommand(CLI::App& app) {
+  auto opts = std::make_shared<ConvertOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "convert", "Convert an MLI folder between the reference JPEG form and the lossless float "
+                 "form (written atomically)");
+  cmd->add_option("input", opts->input, "MLI folder to read (either form)")->required();
+  cmd->add_option("output", opts->output, "MLI folder to write")->required();
+  cmd->add_option("--format", opts->format,
+                  "Output form: jpeg (reference, lossy), lossless (float TIFF, exact) or auto "
+                  "(the form the input is not in)")
+      ->capture_default_str();
+  cmd->add_option("--depth-decoding", opts->depthDecoding,
+                  "How 8-bit depths of a JPEG input are decoded: viewer (lo + q (hi - lo)/255) "
+                  "or bin-centre (lo + (q + 0.5)(hi - lo)/256)")
+      ->capture_default_str();
+  cmd->add_flag("--force", opts->force, "Replace an existing MLI folder at the output");
+  cmd->callback([opts] { runConvert(*opts); });
+}
+
+} // namespace simpli::app

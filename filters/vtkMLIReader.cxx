@@ -1,0 +1,104 @@
+#include "vtkMLIReader.h"
+
+#include "SIMPLIMLIToVTK.h"
+
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkPartitionedDataSetCollection.h"
+
+#include "simpli/error.h"
+#include "simpli/model/mli_io.h"
+
+#include <exception>
+#include <filesystem>
+
+vtkStandardNewMacro(vtkMLIReader);
+
+vtkMLIReader::vtkMLIReader() {
+  this->SetNumberOfInputPorts(0);
+}
+
+vtkMLIReader::~vtkMLIReader() {
+  this->SetFileName(nullptr);
+}
+
+std::string vtkMLIReader::FolderOf(const char* name) {
+  namespace fs = std::filesystem;
+  const fs::path path(name);
+  std::error_code ec;
+  // ParaView's File > Open hands over the meta.json it matched; the MLI is its folder.
+  if (path.filename() == "meta.json" && fs::is_regular_file(path, ec))
+    return path.parent_path().empty() ? std::string(".") : path.parent_path().string();
+  return path.string();
+}
+
+int vtkMLIReader::CanReadFile(const char* name) {
+  if (!name || !*name)
+    return 0;
+  try {
+    simpli::detectMLIFormat(FolderOf(name));
+    return 1;
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+int vtkMLIReader::RequestData(vtkInformation* vtkNotUsed(request),
+                              vtkInformationVector** vtkNotUsed(inputVector),
+                              vtkInformationVector* outputVector) {
+  vtkPartitionedDataSetCollection* output = vtkPartitionedDataSetCollection::GetData(outputVector);
+  if (!output) {
+    vtkErrorMacro(<< "No vtkPartitionedDataSetCollection output to fill");
+    return 0;
+  }
+  output->Initialize();
+  if (!this->FileName || !*this->FileName) {
+    vtkErrorMacro(<< "FileName is not set (expected an MLI folder)");
+    return 0;
+  }
+
+  try {
+    simpli::MLIReadOptions readOptions;
+    readOptions.depthDecoding = this->DepthDecoding == DEPTH_BIN_CENTRE
+                                    ? simpli::MLIDepthDecoding::BinCentre
+                                    : simpli::MLIDepthDecoding::Viewer;
+    this->UpdateProgress(0.0);
+    const simpli::MLI mli = simpli::readMLI(FolderOf(this->FileName), readOptions);
+    if (this->GetAbortExecute()) {
+      return 1; // aborted: empty output, no error
+    }
+
+    simpli::vtkmli::LayerOptions options;
+    options.dropTransparentTriangles = this->DropTransparentTriangles;
+    options.skipEmptyLayers = this->SkipEmptyLayers;
+    options.alphaThreshold = this->AlphaThreshold;
+    // Decoding the images dominates; call it half of the work, the meshes the other half.
+    const bool complete = simpli::vtkmli::mliToCollection(mli, options, output, [this](double f) {
+      this->UpdateProgress(0.5 + 0.5 * f);
+      return !this->GetAbortExecute();
+    });
+    if (!complete) {
+      vtkDebugMacro(<< "Aborted while building the layer meshes of " << this->FileName);
+    }
+    return 1;
+  } catch (const simpli::Error& e) {
+    vtkErrorMacro(<< "Cannot read MLI '" << this->FileName << "': " << e.what());
+  } catch (const std::exception& e) {
+    vtkErrorMacro(<< "Cannot read MLI '" << this->FileName
+                  << "': unexpected failure: " << e.what());
+  }
+  output->Initialize();
+  return 0;
+}
+
+void vtkMLIReader::PrintSelf(ostream& os, vtkIndent indent) {
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "DropTransparentTriangles: " << this->DropTransparentTriangles << "\n";
+  os << indent << "SkipEmptyLayers: " << this->SkipEmptyLayers << "\n";
+  os << indent << "AlphaThreshold: " << this->AlphaThreshold << "\n";
+  os << indent
+     << "DepthDecoding: " << (this->DepthDecoding == DEPTH_BIN_CENTRE ? "BinCentre" : "Viewer")
+     << "\n";
+}

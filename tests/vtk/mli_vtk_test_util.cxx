@@ -1,0 +1,87 @@
+#include "mli_vtk_test_util.h"
+
+#include <algorithm>
+#include <atomic>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <Eigen/Geometry>
+#include <unistd.h>
+
+namespace simpli::vtktest {
+
+Camera testCamera(int W, int H) {
+  Camera c;
+  c.R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.3, 1.0, -0.2).normalized()).toRotationMatrix();
+  c.t = Eigen::Vector3d(-0.6, 1.1, 1.7);
+  c.fx = 0.87;
+  c.fy = 1.19;
+  c.cx = 0.52;
+  c.cy = 0.4167;
+  c.width = W;
+  c.height = H;
+  return c;
+}
+
+MLI randomMLI(int L, int H, int W, unsigned seed) {
+  MLI mli = MLI::allocate(testCamera(W, H), L);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int k = 0; k < L; ++k) {
+    const float d = 20.0f / static_cast<float>(k + 1);
+    std::uniform_real_distribution<float> depth(d, 2.0f * d);
+    MLILayer& layer = mli.layers[static_cast<std::size_t>(k)];
+    for (float& v : layer.depth)
+      v = depth(rng);
+    for (float& v : layer.rgba)
+      v = unit(rng);
+  }
+  return mli;
+}
+
+TempDir::TempDir() {
+  static std::atomic<int> counter{0};
+  path_ = fs::temp_directory_path() /
+          ("simpli_vtk_mli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  fs::remove_all(path_);
+  fs::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+}
+
+std::vector<std::string> listDir(const fs::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(folder))
+    names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+void writeText(const fs::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out << text;
+}
+
+bool ErrorRecorder::has(const std::vector<std::string>& parts) const {
+  for (const auto& m : messages) {
+    bool all = true;
+    for (const auto& p : parts)
+      all = all && m.find(p) != std::string::npos;
+    if (all)
+      return true;
+  }
+  return false;
+}
+
+std::string ErrorRecorder::all() const {
+  std::ostringstream os;
+  for (const auto& m : messages)
+    os << "[" << m << "]\n";
+  return os.str();
+}
+
+} // namespace simpli::vtktest
