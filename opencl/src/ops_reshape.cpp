@@ -1,5 +1,6 @@
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_reduce.h"
 #include "simpli/ocl/ops_shape.h"
 
 namespace simpli::ocl {
@@ -30,6 +31,29 @@ Tensor reshape(const Tensor& x, const Shape& shape) {
   return record("reshape", out, {x}, [source = x.shape()](const Tensor& g) {
     return std::vector<Tensor>{reshape(g, source)};
   });
+}
+
+Tensor squeeze(const Tensor& x, int axis) {
+  if (!x.defined())
+    fail("squeeze: undefined tensor");
+  const int a = normaliseAxis(axis, x.dim(), "squeeze", x.shape());
+  if (x.shape()[a] != 1)
+    fail("squeeze: axis ", axis, " of ", x.describe(), " has size ", x.shape()[a], ", not 1");
+  Shape target = x.shape();
+  target.erase(target.begin() + a);
+  return reshape(x, target);
+}
+
+Tensor unsqueeze(const Tensor& x, int axis) {
+  if (!x.defined())
+    fail("unsqueeze: undefined tensor");
+  // The new axis may sit anywhere from before the first to after the last dimension.
+  const int a = normaliseAxis(axis, x.dim() + 1, "unsqueeze", x.shape());
+  if (x.dim() >= kMaxDims)
+    fail("unsqueeze: ", x.describe(), " already has the maximum of ", kMaxDims, " dimensions");
+  Shape target = x.shape();
+  target.insert(target.begin() + a, 1);
+  return reshape(x, target);
 }
 
 } // namespace simpli::ocl
