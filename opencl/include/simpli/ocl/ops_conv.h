@@ -1,0 +1,41 @@
+#pragma once
+// 2-D and 3-D convolutions (cross-correlation, as in PyTorch), differentiable in the input, the
+// weight and the bias. Lowered to GEMMs through CLBlast: an im2col kernel (which also applies the
+// padding) builds column blocks of at most a few tens of MB, so large volumes never materialise
+// a full column matrix. 1x1 convolutions with stride 1 and no padding skip im2col.
+#include "simpli/ocl/tensor.h"
+
+#include <array>
+#include <cstddef>
+
+namespace simpli::ocl {
+
+enum class PaddingMode {
+  Zeros,    ///< samples outside the input are 0
+  Replicate ///< samples outside the input repeat the nearest edge sample
+};
+
+/// x [N, C, H, W], weight [O, C, kh, kw], bias [O] or undefined -> [N, O, Ho, Wo] with
+/// Ho = (H + 2 * padding[0] - kh) / stride[0] + 1 (likewise Wo). Throws simpli::Error naming
+/// the op and the shapes on rank, channel or dtype mismatch, non-positive stride, negative
+/// padding, or a kernel larger than the padded input.
+Tensor conv2d(const Tensor& x, const Tensor& weight, const Tensor& bias, std::array<int, 2> stride,
+              std::array<int, 2> padding, PaddingMode mode = PaddingMode::Zeros);
+/// The same stride and padding along both axes.
+Tensor conv2d(const Tensor& x, const Tensor& weight, const Tensor& bias = Tensor(), int stride = 1,
+              int padding = 0, PaddingMode mode = PaddingMode::Zeros);
+
+/// x [N, C, D, H, W], weight [O, C, kd, kh, kw], bias [O] or undefined -> [N, O, Do, Ho, Wo];
+/// stride and padding per axis (D, H, W); replicate padding applies along D as well.
+Tensor conv3d(const Tensor& x, const Tensor& weight, const Tensor& bias, std::array<int, 3> stride,
+              std::array<int, 3> padding, PaddingMode mode = PaddingMode::Zeros);
+/// The same stride and padding along all three axes.
+Tensor conv3d(const Tensor& x, const Tensor& weight, const Tensor& bias = Tensor(), int stride = 1,
+              int padding = 0, PaddingMode mode = PaddingMode::Zeros);
+
+/// Upper bound, in bytes, of the column block im2col builds per batch item (default 32 MiB;
+/// at least one output row is always taken). Smaller saves device memory, larger gives fewer
+/// and bigger GEMMs. Returns the previous value.
+std::size_t setConvColumnBudget(std::size_t bytes);
+
+} // namespace simpli::ocl

@@ -1,0 +1,104 @@
+// Convolution lowering. Every convolution runs as a 3-D one (a 2-D convolution has D = KD = 1).
+// The output positions are taken in blocks of whole output rows (od, oh) so that the column
+// matrix of one block stays small; `row0` is the first flattened row (od * Ho + oh) of the
+// block and `rows` its row count, so the block's columns are p = row0 * Wo .. (row0 + rows) * Wo.
+// Column matrix layout: col[r][p - p0], r = ((c * KD + i) * KH + j) * KW + l.
+
+// Input coordinate read by output coordinate o at kernel offset k: zero padding reads nothing
+// (returns -1) outside [0, n), replicate padding clamps to the edge.
+inline int source_index(const int o, const int k, const int s, const int p, const int n,
+                        const int replicate) {
+  const int q = o * s - p + k;
+  if (replicate) return clamp(q, 0, n - 1);
+  return (q < 0 || q >= n) ? -1 : q;
+}
+
+// Global size (Wo, rows, C * KD * KH * KW): one column entry per work item; consecutive work
+// items write consecutive columns.
+__kernel void im2col3d(__global const REAL* x, const int xOff, const int C, const int D,
+                       const int H, const int W, const int KD, const int KH, const int KW,
+                       const int SD, const int SH, const int SW, const int PD, const int PH,
+                       const int PW, const int Ho, const int Wo, const int row0, const int rows,
+                       const int replicate, __global REAL* col) {
+  const int ow = get_global_id(0), rl = get_global_id(1), r = get_global_id(2);
+  if (ow >= Wo || rl >= rows || r >= C * KD * KH * KW) return;
+  const int l = r % KW, j = (r / KW) % KH, i = (r / (KW * KH)) % KD, c = r / (KW * KH * KD);
+  const int row = row0 + rl, od = row / Ho, oh = row % Ho;
+  const int z = source_index(od, i, SD, PD, D, replicate);
+  const int y = source_index(oh, j, SH, PH, H, replicate);
+  const int xx = source_index(ow, l, SW, PW, W, replicate);
+  REAL v = 0;
+  if (z >= 0 && y >= 0 && xx >= 0) v = x[xOff + ((c * D + z) * H + y) * W + xx];
+  col[(long)r * (rows * Wo) + rl * Wo + ow] = v;
+}
+
+inline int floor_div(const int a, const int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// Output coordinates o in [0, n_out) whose tap at kernel offset k reads input coordinate h:
+// o * s - p + k == h, or with replicate padding also every tap clamped onto an edge sample.
+inline int2 taps_reading(const int h, const int k, const int s, const int p, const int n_in,
+                         const int n_out, const int replicate) {
+  const int far = 1 << 28;
+  const int lo_q = (replicate && h == 0) ? -far : h;
+  const int hi_q = (replicate && h == n_in - 1) ? far : h;
+  const int lo = -floor_div(-(lo_q + p - k), s); // ceil((lo_q + p - k) / s)
+  const int hi = floor_div(hi_q + p - k, s);
+  return (int2)(max(lo, 0), min(hi, n_out - 1));
+}
+
+// The adjoint of im2col3d for one block: dx[c, d, h, w] += sum of the column entries that read
+// it. Gathers (no atomics): one work item per input element of the region the block touches,
+// depths d0 .. d0 + dCount - 1 and rows h0 .. h0 + hCount - 1. Global size
+// (W, dCount * hCount, C).
+__kernel void col2im3d(__global const REAL* col, const int C, const int D, const int H,
+                       const int W, const int KD, const int KH, const int KW, const int SD,
+                       const int SH, const int SW, const int PD, const int PH, const int PW,
+                       const int Do, const int Ho, const int Wo, const int row0, const int rows,
+                       const int replicate, const int d0, const int dCount, const int h0,
+                       const int hCount, __global REAL* dx, const int dxOff) {
+  const int w = get_global_id(0), dh = get_global_id(1), c = get_global_id(2);
+  if (w >= W || dh >= dCount * hCount || c >= C) return;
+  const int d = d0 + dh / hCount, h = h0 + dh % hCount;
+  const int p0 = row0 * Wo, p1 = (row0 + rows) * Wo, chunk = rows * Wo;
+  REAL acc = 0;
+  for (int i = 0; i < KD; ++i) {
+    const int2 rd = taps_reading(d, i, SD, PD, D, Do, replicate);
+    for (int od = rd.x; od <= rd.y; ++od) {
+      for (int j = 0; j < KH; ++j) {
+        const int2 rh = taps_reading(h, j, SH, PH, H, Ho, replicate);
+        for (int oh = rh.x; oh <= rh.y; ++oh) {
+          const int rowBase = (od * Ho + oh) * Wo;
+          if (rowBase + Wo <= p0 || rowBase >= p1) continue;
+          for (int l = 0; l < KW; ++l) {
+            const int2 rw = taps_reading(w, l, SW, PW, W, Wo, replicate);
+            const long r = ((c * KD + i) * KH + j) * KW + l;
+            for (int ow = rw.x; ow <= rw.y; ++ow) acc += col[r * chunk + rowBase + ow - p0];
+          }
+        }
+      }
+    }
+  }
+  dx[dxOff + ((c * D + d) * H + h) * W + w] += acc;
+}
+
+// y[n, o, p] = bias[o] for the GEMMs to accumulate onto (beta = 1).
+__kernel void conv_bias_fill(const int total, const int O, const int P,
+                             __global const REAL* bias, __global REAL* y) {
+  const int i = get_global_id(0);
+  if (i >= total) return;
+  y[i] = bias[(i / P) % O];
+}
+
+// Partial bias gradients: partial[o, part] = sum over n and p = part, part + parts, ... of
+// g[n, o, p]. Global size (parts, O); neighbouring work items read neighbouring elements.
+__kernel void conv_bias_grad(const int N, const int O, const int P, const int parts,
+                             __global const REAL* g, __global REAL* partial) {
+  const int part = get_global_id(0), o = get_global_id(1);
+  if (part >= parts || o >= O) return;
+  REAL acc = 0;
+  for (int n = 0; n < N; ++n) {
+    __global const REAL* row = g + ((long)n * O + o) * P;
+    for (int p = part; p < P; p += parts) acc += row[p];
+  }
+  partial[o * parts + part] = acc;
+}
