@@ -28,8 +28,8 @@ void addDevicesCommand(CLI::App& app) {
     const auto& current = ocl::Device::current().info();
     std::cout << "OpenCL devices (select with --device p:d or SIMPLI_CL_DEVICE=p:d):\n";
     for (const auto& info : devices) {
-      const bool isCurrent = info.platformIndex == current.platformIndex &&
-                             info.deviceIndex == current.deviceIndex;
+      const bool isCurrent =
+          info.platformIndex == current.platformIndex && info.deviceIndex == current.deviceIndex;
       std::cout << (isCurrent ? "* " : "  ") << info.platformIndex << ':' << info.deviceIndex
                 << "  " << (info.isGpu ? "GPU" : "CPU") << "  " << info.deviceName << "  ["
                 << info.platformName << ", " << info.deviceVersion << ", driver "

@@ -14,8 +14,12 @@ namespace {
 thread_local bool gradEnabled = true;
 } // namespace
 
-bool GradMode::enabled() { return gradEnabled; }
-void GradMode::setEnabled(bool enabled) { gradEnabled = enabled; }
+bool GradMode::enabled() {
+  return gradEnabled;
+}
+void GradMode::setEnabled(bool enabled) {
+  gradEnabled = enabled;
+}
 
 bool needsGrad(const std::vector<Tensor>& inputs) {
   if (!gradEnabled)
@@ -101,15 +105,15 @@ void Tensor::backward(const Tensor& gradOutput) const {
     const Node& node = *impl->gradFn;
     std::vector<Tensor> inputGrads = node.backward(g);
     if (inputGrads.size() != node.inputs.size())
-      fail("backward of op '", node.name, "' returned ", inputGrads.size(),
-           " gradients for ", node.inputs.size(), " inputs");
+      fail("backward of op '", node.name, "' returned ", inputGrads.size(), " gradients for ",
+           node.inputs.size(), " inputs");
     for (std::size_t i = 0; i < node.inputs.size(); ++i) {
       const Tensor& in = node.inputs[i];
       if (!in.defined() || !inputGrads[i].defined())
         continue;
       if (inputGrads[i].shape() != in.shape())
-        fail("backward of op '", node.name, "': gradient ", inputGrads[i].describe(),
-             " for input ", i, " of shape ", toString(in.shape()));
+        fail("backward of op '", node.name, "': gradient ", inputGrads[i].describe(), " for input ",
+             i, " of shape ", toString(in.shape()));
       auto [slot, inserted] = grads.try_emplace(in.impl().get(), inputGrads[i]);
       if (!inserted)
         slot->second = add(slot->second, inputGrads[i]);

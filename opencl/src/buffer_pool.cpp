@@ -14,7 +14,9 @@ Buffer::~Buffer() {
 
 BufferPool::BufferPool(cl_context context) : context_(context) {}
 
-BufferPool::~BufferPool() { trim(); }
+BufferPool::~BufferPool() {
+  trim();
+}
 
 std::shared_ptr<Buffer> BufferPool::acquire(std::size_t bytes) {
   if (bytes == 0)

@@ -154,8 +154,8 @@ Device::Device(int platformIndex, int deviceIndex) {
          " platform(s); see `simpli devices`)");
   auto ds = devicesOf(ps[platformIndex]);
   if (deviceIndex < 0 || deviceIndex >= static_cast<int>(ds.size()))
-    fail("OpenCL device selection: platform ", platformIndex, " has no device ", deviceIndex,
-         " (", ds.size(), " device(s); see `simpli devices`)");
+    fail("OpenCL device selection: platform ", platformIndex, " has no device ", deviceIndex, " (",
+         ds.size(), " device(s); see `simpli devices`)");
   device_ = ds[deviceIndex];
   info_ = describe(ps[platformIndex], device_, platformIndex, deviceIndex);
   cl_int status = CL_SUCCESS;
@@ -180,7 +180,9 @@ Device::~Device() {
     clReleaseContext(context_);
 }
 
-void Device::finish() { checkCl(clFinish(queue_), "clFinish"); }
+void Device::finish() {
+  checkCl(clFinish(queue_), "clFinish");
+}
 
 void checkCl(cl_int status, const char* what) {
   if (status != CL_SUCCESS)
@@ -189,8 +191,8 @@ void checkCl(cl_int status, const char* what) {
 
 const char* clErrorName(cl_int status) {
   switch (status) {
-#define SIMPLI_CL_CASE(x)                                                                      \
-  case x:                                                                                      \
+#define SIMPLI_CL_CASE(x)                                                                          \
+  case x:                                                                                          \
     return #x;
     SIMPLI_CL_CASE(CL_SUCCESS)
     SIMPLI_CL_CASE(CL_DEVICE_NOT_FOUND)

@@ -7,10 +7,12 @@
 namespace simpli::ocl {
 
 Launch::Launch(const char* program, const char* kernel, Dtype dtype, const std::string& options)
-    : kernel_(Device::current().programs().kernel(program, kernel, dtype, options)),
-      dtype_(dtype), name_(std::string(program) + "." + kernel) {}
+    : kernel_(Device::current().programs().kernel(program, kernel, dtype, options)), dtype_(dtype),
+      name_(std::string(program) + "." + kernel) {}
 
-Launch& Launch::arg(const Tensor& tensor) { return arg(tensor.buffer()); }
+Launch& Launch::arg(const Tensor& tensor) {
+  return arg(tensor.buffer());
+}
 
 Launch& Launch::arg(cl_mem mem) {
   checkCl(clSetKernelArg(kernel_, index_++, sizeof(cl_mem), &mem), name_.c_str());
@@ -83,8 +85,8 @@ void Launch::run3(int64_t n0, int64_t n1, int64_t n2, std::size_t l0, std::size_
 }
 
 void Launch::enqueue(cl_uint dims, const std::size_t* global, const std::size_t* local) {
-  cl_int status = clEnqueueNDRangeKernel(Device::current().queue(), kernel_, dims, nullptr,
-                                         global, local, 0, nullptr, nullptr);
+  cl_int status = clEnqueueNDRangeKernel(Device::current().queue(), kernel_, dims, nullptr, global,
+                                         local, 0, nullptr, nullptr);
   checkCl(status, name_.c_str());
 }
 

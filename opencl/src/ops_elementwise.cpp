@@ -223,23 +223,55 @@ Tensor extremum(int op, const Tensor& a, const Tensor& b) {
 }
 } // namespace
 
-Tensor maximum(const Tensor& a, const Tensor& b) { return extremum(kMax, a, b); }
-Tensor minimum(const Tensor& a, const Tensor& b) { return extremum(kMin, a, b); }
+Tensor maximum(const Tensor& a, const Tensor& b) {
+  return extremum(kMax, a, b);
+}
+Tensor minimum(const Tensor& a, const Tensor& b) {
+  return extremum(kMin, a, b);
+}
 
-Tensor neg(const Tensor& x) { return unary("neg", kNeg, x); }
-Tensor exp(const Tensor& x) { return unary("exp", kExp, x); }
-Tensor log(const Tensor& x) { return unary("log", kLog, x); }
-Tensor sqrt(const Tensor& x) { return unary("sqrt", kSqrt, x); }
-Tensor square(const Tensor& x) { return unary("square", kSquare, x); }
-Tensor abs(const Tensor& x) { return unary("abs", kAbs, x); }
-Tensor relu(const Tensor& x) { return unary("relu", kRelu, x); }
-Tensor elu(const Tensor& x, double alpha) { return unary("elu", kElu, x, alpha); }
-Tensor sigmoid(const Tensor& x) { return unary("sigmoid", kSigmoid, x); }
-Tensor tanh(const Tensor& x) { return unary("tanh", kTanh, x); }
-Tensor softplus(const Tensor& x) { return unary("softplus", kSoftplus, x); }
-Tensor addScalar(const Tensor& x, double value) { return unary("addScalar", kAddScalar, x, value); }
-Tensor mulScalar(const Tensor& x, double value) { return unary("mulScalar", kMulScalar, x, value); }
-Tensor powScalar(const Tensor& x, double e) { return unary("powScalar", kPowScalar, x, e); }
+Tensor neg(const Tensor& x) {
+  return unary("neg", kNeg, x);
+}
+Tensor exp(const Tensor& x) {
+  return unary("exp", kExp, x);
+}
+Tensor log(const Tensor& x) {
+  return unary("log", kLog, x);
+}
+Tensor sqrt(const Tensor& x) {
+  return unary("sqrt", kSqrt, x);
+}
+Tensor square(const Tensor& x) {
+  return unary("square", kSquare, x);
+}
+Tensor abs(const Tensor& x) {
+  return unary("abs", kAbs, x);
+}
+Tensor relu(const Tensor& x) {
+  return unary("relu", kRelu, x);
+}
+Tensor elu(const Tensor& x, double alpha) {
+  return unary("elu", kElu, x, alpha);
+}
+Tensor sigmoid(const Tensor& x) {
+  return unary("sigmoid", kSigmoid, x);
+}
+Tensor tanh(const Tensor& x) {
+  return unary("tanh", kTanh, x);
+}
+Tensor softplus(const Tensor& x) {
+  return unary("softplus", kSoftplus, x);
+}
+Tensor addScalar(const Tensor& x, double value) {
+  return unary("addScalar", kAddScalar, x, value);
+}
+Tensor mulScalar(const Tensor& x, double value) {
+  return unary("mulScalar", kMulScalar, x, value);
+}
+Tensor powScalar(const Tensor& x, double e) {
+  return unary("powScalar", kPowScalar, x, e);
+}
 Tensor clamp(const Tensor& x, double low, double high) {
   if (!(low <= high))
     fail("clamp: low ", low, " > high ", high);

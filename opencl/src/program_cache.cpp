@@ -54,8 +54,8 @@ cl_program ProgramCache::program(const std::string& programName, Dtype dtype,
   else if (auto jt = registeredSources().find(programName); jt != registeredSources().end())
     bodyText = jt->second;
   if (!bodyText)
-    fail("OpenCL program '", programName, "' (kernel ", forKernel,
-         ") is not embedded: no kernels/", programName, ".cl");
+    fail("OpenCL program '", programName, "' (kernel ", forKernel, ") is not embedded: no kernels/",
+         programName, ".cl");
   if (dtype == Dtype::F64 && !hasFp64_)
     fail("kernel ", programName, ".", forKernel,
          ": float64 requested but the device has no cl_khr_fp64 support");
@@ -75,8 +75,8 @@ cl_program ProgramCache::program(const std::string& programName, Dtype dtype,
     clGetProgramBuildInfo(prog, device_, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
     clReleaseProgram(prog);
     fail("building OpenCL program '", programName, "' for kernel '", forKernel, "' (",
-         toString(dtype), ", options \"", flags, "\") failed with ", clErrorName(status),
-         ":\n", log);
+         toString(dtype), ", options \"", flags, "\") failed with ", clErrorName(status), ":\n",
+         log);
   }
   programs_.emplace(key, prog);
   return prog;

@@ -74,7 +74,8 @@ std::vector<Check> checks() {
       {"matmul (CLBlast GEMM)",
        [](Dtype dt) {
          const int m = 37, k = 29, n = 41;
-         Tensor a = Tensor::uniform({m, k}, -1, 1, 5, dt), b = Tensor::uniform({k, n}, -1, 1, 6, dt);
+         Tensor a = Tensor::uniform({m, k}, -1, 1, 5, dt),
+                b = Tensor::uniform({k, n}, -1, 1, 6, dt);
          auto av = a.toVector(), bv = b.toVector();
          std::vector<double> want(m * n, 0.0);
          for (int i = 0; i < m; ++i)
@@ -99,8 +100,8 @@ std::vector<Check> checks() {
                      const int sy = y + dy, sx = xx + dx;
                      if (sy < 0 || sy >= h || sx < 0 || sx >= w)
                        continue;
-                     want[(oc * h + y) * w + xx] += xv[(ic * h + sy) * w + sx] *
-                                                    kv[((oc * c + ic) * 3 + dy + 1) * 3 + dx + 1];
+                     want[(oc * h + y) * w + xx] +=
+                         xv[(ic * h + sy) * w + sx] * kv[((oc * c + ic) * 3 + dy + 1) * 3 + dx + 1];
                    }
          return maxRelError(conv2d(x, k, Tensor(), 1, 1).toVector(), want);
        }},
@@ -139,9 +140,9 @@ bool runSelfCheck(std::ostream& out) {
       } catch (const Error& e) {
         problem = e.what();
       }
-      const double ms = std::chrono::duration<double, std::milli>(
-                            std::chrono::steady_clock::now() - start)
-                            .count();
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count();
       const bool pass = problem.empty() && err <= tol;
       ok = ok && pass;
       out << "  " << (pass ? "ok  " : "FAIL") << "  " << toString(dt) << "  " << std::left

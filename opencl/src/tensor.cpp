@@ -19,7 +19,9 @@ std::string toString(const Shape& shape) {
   return os.str();
 }
 
-std::string toString(Dtype dtype) { return dtype == Dtype::F32 ? "f32" : "f64"; }
+std::string toString(Dtype dtype) {
+  return dtype == Dtype::F32 ? "f32" : "f64";
+}
 
 int64_t numelOf(const Shape& shape) {
   int64_t n = 1;
@@ -28,7 +30,9 @@ int64_t numelOf(const Shape& shape) {
   return n;
 }
 
-std::size_t sizeOf(Dtype dtype) { return dtype == Dtype::F32 ? 4 : 8; }
+std::size_t sizeOf(Dtype dtype) {
+  return dtype == Dtype::F32 ? 4 : 8;
+}
 
 namespace {
 
@@ -87,8 +91,7 @@ Tensor Tensor::uniform(const Shape& shape, double low, double high, uint64_t see
   return t;
 }
 
-Tensor Tensor::normal(const Shape& shape, double mean, double stddev, uint64_t seed,
-                      Dtype dtype) {
+Tensor Tensor::normal(const Shape& shape, double mean, double stddev, uint64_t seed, Dtype dtype) {
   Tensor t = empty(shape, dtype);
   Launch("elementwise", "random_normal", dtype)
       .arg(static_cast<int>(t.numel()))
@@ -125,7 +128,9 @@ int64_t Tensor::size(int axis) const {
   return shape()[a];
 }
 
-int64_t Tensor::numel() const { return numelOf(shape()); }
+int64_t Tensor::numel() const {
+  return numelOf(shape());
+}
 
 Dtype Tensor::dtype() const {
   if (!impl_)
@@ -152,14 +157,14 @@ std::vector<double> Tensor::toVector() const {
     return out;
   auto queue = Device::current().queue();
   if (dtype() == Dtype::F64) {
-    checkCl(clEnqueueReadBuffer(queue, buffer(), CL_TRUE, 0, n * 8, out.data(), 0, nullptr,
-                                nullptr),
-            "Tensor::toVector");
+    checkCl(
+        clEnqueueReadBuffer(queue, buffer(), CL_TRUE, 0, n * 8, out.data(), 0, nullptr, nullptr),
+        "Tensor::toVector");
   } else {
     std::vector<float> tmp(n);
-    checkCl(clEnqueueReadBuffer(queue, buffer(), CL_TRUE, 0, n * 4, tmp.data(), 0, nullptr,
-                                nullptr),
-            "Tensor::toVector");
+    checkCl(
+        clEnqueueReadBuffer(queue, buffer(), CL_TRUE, 0, n * 4, tmp.data(), 0, nullptr, nullptr),
+        "Tensor::toVector");
     out.assign(tmp.begin(), tmp.end());
   }
   return out;
@@ -189,15 +194,18 @@ void Tensor::copyFromHost(const std::vector<double>& values) {
             "Tensor::copyFromHost");
   } else {
     std::vector<float> tmp(values.begin(), values.end());
-    checkCl(clEnqueueWriteBuffer(queue, buffer(), CL_TRUE, 0, n * 4, tmp.data(), 0, nullptr,
-                                 nullptr),
-            "Tensor::copyFromHost");
+    checkCl(
+        clEnqueueWriteBuffer(queue, buffer(), CL_TRUE, 0, n * 4, tmp.data(), 0, nullptr, nullptr),
+        "Tensor::copyFromHost");
   }
 }
 
 void Tensor::fill(double value) {
-  Launch("elementwise", "fill", dtype()).arg(static_cast<int>(numel())).real(value).arg(*this).run(
-      numel());
+  Launch("elementwise", "fill", dtype())
+      .arg(static_cast<int>(numel()))
+      .real(value)
+      .arg(*this)
+      .run(numel());
 }
 
 Tensor Tensor::to(Dtype target) const {
@@ -210,21 +218,22 @@ Tensor Tensor::to(Dtype target) const {
   else
     Launch("elementwise", "convert_to_f32", Dtype::F64).arg(n).arg(*this).arg(out).run(n);
   const Dtype source = dtype();
-  return record("to", out, {*this}, [source](const Tensor& g) {
-    return std::vector<Tensor>{g.to(source)};
-  });
+  return record("to", out, {*this},
+                [source](const Tensor& g) { return std::vector<Tensor>{g.to(source)}; });
 }
 
 Tensor Tensor::clone() const {
   Tensor out = empty(shape(), dtype());
   if (bytes() > 0)
-    checkCl(clEnqueueCopyBuffer(Device::current().queue(), buffer(), out.buffer(), 0, 0, bytes(),
-                                0, nullptr, nullptr),
+    checkCl(clEnqueueCopyBuffer(Device::current().queue(), buffer(), out.buffer(), 0, 0, bytes(), 0,
+                                nullptr, nullptr),
             "Tensor::clone");
   return record("clone", out, {*this}, [](const Tensor& g) { return std::vector<Tensor>{g}; });
 }
 
-bool Tensor::requiresGrad() const { return impl_ && impl_->requiresGrad; }
+bool Tensor::requiresGrad() const {
+  return impl_ && impl_->requiresGrad;
+}
 
 Tensor& Tensor::setRequiresGrad(bool value) {
   if (!impl_)
@@ -236,7 +245,9 @@ Tensor& Tensor::setRequiresGrad(bool value) {
   return *this;
 }
 
-Tensor Tensor::grad() const { return impl_ && impl_->grad ? Tensor(impl_->grad) : Tensor(); }
+Tensor Tensor::grad() const {
+  return impl_ && impl_->grad ? Tensor(impl_->grad) : Tensor();
+}
 
 void Tensor::setGrad(const Tensor& grad) {
   if (grad.defined() && grad.shape() != shape())
@@ -257,7 +268,9 @@ Tensor Tensor::detach() const {
   return Tensor(impl);
 }
 
-bool Tensor::hasGradFn() const { return impl_ && impl_->gradFn; }
+bool Tensor::hasGradFn() const {
+  return impl_ && impl_->gradFn;
+}
 
 Tensor Tensor::viewAs(const Shape& newShape) const {
   validateShape(newShape, "viewAs");

@@ -16,8 +16,12 @@
 
 namespace simpli::test {
 
-PoisonGuard::PoisonGuard() { ocl::Device::current().pool().setPoison(true); }
-PoisonGuard::~PoisonGuard() { ocl::Device::current().pool().setPoison(false); }
+PoisonGuard::PoisonGuard() {
+  ocl::Device::current().pool().setPoison(true);
+}
+PoisonGuard::~PoisonGuard() {
+  ocl::Device::current().pool().setPoison(false);
+}
 
 double relativeError(const std::vector<double>& actual, const std::vector<double>& expected,
                      double floor) {

@@ -27,8 +27,8 @@ struct OpCase {
   double low = -2.0, high = 2.0; ///< input range for random values
   /// Optional: adjust the random inputs (e.g. keep them away from kinks or make them > 0).
   std::function<void(HostInputs&)> prepare;
-  double forwardTolerance = 1e-5;  ///< max |f32 - ref| / max |ref|
-  double gradientTolerance = 1e-6; ///< max |analytic - numeric| / max |numeric|
+  double forwardTolerance = 1e-5;   ///< max |f32 - ref| / max |ref|
+  double gradientTolerance = 1e-6;  ///< max |analytic - numeric| / max |numeric|
   std::vector<bool> differentiable; ///< per input; default: all
   int maxGradientProbes = 48;       ///< finite-difference probes per input (random subset)
   double step = 1e-6;               ///< finite-difference step (relative to max(1, |x|))

@@ -67,7 +67,7 @@ TEST(Autograd, BackwardErrorsNameTheProblem) {
   Tensor y = ocl::mulScalar(x, 2.0);
   EXPECT_THROW(y.backward(), Error); // not a scalar
   Tensor c = Tensor::ones({1});
-  EXPECT_THROW(c.backward(), Error); // nothing requires gradients
+  EXPECT_THROW(c.backward(), Error);        // nothing requires gradients
   EXPECT_THROW(y.setRequiresGrad(), Error); // not a leaf
 }
 

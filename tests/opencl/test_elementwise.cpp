@@ -106,21 +106,36 @@ struct UnaryCase {
 TEST(Elementwise, UnaryOpsAgainstReference) {
   const UnaryCase cases[] = {
       {"neg", [](const ocl::Tensor& x) { return ocl::neg(x); }, [](double x) { return -x; }, -3, 3},
-      {"exp", [](const ocl::Tensor& x) { return ocl::exp(x); }, [](double x) { return std::exp(x); }, -3, 3},
-      {"log", [](const ocl::Tensor& x) { return ocl::log(x); }, [](double x) { return std::log(x); }, 0.1, 5},
-      {"sqrt", [](const ocl::Tensor& x) { return ocl::sqrt(x); }, [](double x) { return std::sqrt(x); }, 0.1, 5},
-      {"square", [](const ocl::Tensor& x) { return ocl::square(x); }, [](double x) { return x * x; }, -3, 3},
-      {"abs", [](const ocl::Tensor& x) { return ocl::abs(x); }, [](double x) { return std::fabs(x); }, 0.05, 3},
-      {"relu", [](const ocl::Tensor& x) { return ocl::relu(x); }, [](double x) { return x > 0 ? x : 0.0; }, 0.05, 3},
-      {"elu", [](const ocl::Tensor& x) { return ocl::elu(x, 1.0); }, [](double x) { return x > 0 ? x : std::expm1(x); }, -3, 3},
-      {"elu0.5", [](const ocl::Tensor& x) { return ocl::elu(x, 0.5); }, [](double x) { return x > 0 ? x : 0.5 * std::expm1(x); }, -3, 3},
-      {"sigmoid", [](const ocl::Tensor& x) { return ocl::sigmoid(x); }, [](double x) { return 1 / (1 + std::exp(-x)); }, -6, 6},
-      {"tanh", [](const ocl::Tensor& x) { return ocl::tanh(x); }, [](double x) { return std::tanh(x); }, -3, 3},
-      {"softplus", [](const ocl::Tensor& x) { return ocl::softplus(x); }, [](double x) { return std::log1p(std::exp(x)); }, -5, 5},
-      {"addScalar", [](const ocl::Tensor& x) { return ocl::addScalar(x, 1.5); }, [](double x) { return x + 1.5; }, -3, 3},
-      {"mulScalar", [](const ocl::Tensor& x) { return ocl::mulScalar(x, -2.5); }, [](double x) { return -2.5 * x; }, -3, 3},
-      {"powScalar", [](const ocl::Tensor& x) { return ocl::powScalar(x, 1.7); }, [](double x) { return std::pow(x, 1.7); }, 0.2, 3},
-      {"clamp", [](const ocl::Tensor& x) { return ocl::clamp(x, -0.5, 0.7); }, [](double x) { return std::min(std::max(x, -0.5), 0.7); }, -3, 3},
+      {"exp", [](const ocl::Tensor& x) { return ocl::exp(x); },
+       [](double x) { return std::exp(x); }, -3, 3},
+      {"log", [](const ocl::Tensor& x) { return ocl::log(x); },
+       [](double x) { return std::log(x); }, 0.1, 5},
+      {"sqrt", [](const ocl::Tensor& x) { return ocl::sqrt(x); },
+       [](double x) { return std::sqrt(x); }, 0.1, 5},
+      {"square", [](const ocl::Tensor& x) { return ocl::square(x); },
+       [](double x) { return x * x; }, -3, 3},
+      {"abs", [](const ocl::Tensor& x) { return ocl::abs(x); },
+       [](double x) { return std::fabs(x); }, 0.05, 3},
+      {"relu", [](const ocl::Tensor& x) { return ocl::relu(x); },
+       [](double x) { return x > 0 ? x : 0.0; }, 0.05, 3},
+      {"elu", [](const ocl::Tensor& x) { return ocl::elu(x, 1.0); },
+       [](double x) { return x > 0 ? x : std::expm1(x); }, -3, 3},
+      {"elu0.5", [](const ocl::Tensor& x) { return ocl::elu(x, 0.5); },
+       [](double x) { return x > 0 ? x : 0.5 * std::expm1(x); }, -3, 3},
+      {"sigmoid", [](const ocl::Tensor& x) { return ocl::sigmoid(x); },
+       [](double x) { return 1 / (1 + std::exp(-x)); }, -6, 6},
+      {"tanh", [](const ocl::Tensor& x) { return ocl::tanh(x); },
+       [](double x) { return std::tanh(x); }, -3, 3},
+      {"softplus", [](const ocl::Tensor& x) { return ocl::softplus(x); },
+       [](double x) { return std::log1p(std::exp(x)); }, -5, 5},
+      {"addScalar", [](const ocl::Tensor& x) { return ocl::addScalar(x, 1.5); },
+       [](double x) { return x + 1.5; }, -3, 3},
+      {"mulScalar", [](const ocl::Tensor& x) { return ocl::mulScalar(x, -2.5); },
+       [](double x) { return -2.5 * x; }, -3, 3},
+      {"powScalar", [](const ocl::Tensor& x) { return ocl::powScalar(x, 1.7); },
+       [](double x) { return std::pow(x, 1.7); }, 0.2, 3},
+      {"clamp", [](const ocl::Tensor& x) { return ocl::clamp(x, -0.5, 0.7); },
+       [](double x) { return std::min(std::max(x, -0.5), 0.7); }, -3, 3},
   };
   const Shape shapes[] = {{1}, {13}, {3, 1, 7}, {2, 3, 1, 5, 1, 3}};
   for (const auto& u : cases) {
@@ -161,7 +176,8 @@ TEST(Elementwise, ActivationsStayFiniteAtExtremes) {
       EXPECT_TRUE(std::isfinite(sv[i]) && std::isfinite(tv[i]) && std::isfinite(ev[i]));
       EXPECT_NEAR(sv[i], 1 / (1 + std::exp(-xs[i])), 1e-7);
       EXPECT_NEAR(tv[i], std::tanh(xs[i]), 1e-7);
-      EXPECT_NEAR(ev[i], xs[i] > 0 ? xs[i] : std::expm1(xs[i]), 1e-7 * std::max(1.0, std::fabs(xs[i])));
+      EXPECT_NEAR(ev[i], xs[i] > 0 ? xs[i] : std::expm1(xs[i]),
+                  1e-7 * std::max(1.0, std::fabs(xs[i])));
       const double spRef = std::max(xs[i], 0.0) + std::log1p(std::exp(-std::fabs(xs[i])));
       EXPECT_NEAR(spv[i], spRef, 1e-6 * std::max(1.0, std::fabs(xs[i])));
       EXPECT_TRUE(std::isfinite(spv[i]) || std::fabs(xs[i]) > 1e29);

@@ -30,10 +30,9 @@ TEST(EndToEnd, TwoLayerConvNetFitsTargetWithAdam) {
     NoGradGuard off;
     // A narrower teacher (4 hidden channels) than the student (16): the target is exactly
     // representable and the over-parameterised student reaches it reliably.
-    target = twoLayerNet(x, Tensor::uniform({4, 3, 3, 3}, -0.4, 0.4, 12),
-                         Tensor::uniform({4}, -0.2, 0.2, 13),
-                         Tensor::uniform({2, 4, 3, 3}, -0.3, 0.3, 14),
-                         Tensor::uniform({2}, -0.2, 0.2, 15));
+    target = twoLayerNet(
+        x, Tensor::uniform({4, 3, 3, 3}, -0.4, 0.4, 12), Tensor::uniform({4}, -0.2, 0.2, 13),
+        Tensor::uniform({2, 4, 3, 3}, -0.3, 0.3, 14), Tensor::uniform({2}, -0.2, 0.2, 15));
   }
   Tensor w1 = Tensor::uniform({16, 3, 3, 3}, -0.3, 0.3, 21).setRequiresGrad();
   Tensor b1 = Tensor::zeros({16}).setRequiresGrad();

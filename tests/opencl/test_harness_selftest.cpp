@@ -43,7 +43,9 @@ bool failsWith(const OpCase& c, const std::string& needle) {
 
 } // namespace
 
-TEST(HarnessSelfTest, CorrectCasePasses) { checkOp(squareCase()); }
+TEST(HarnessSelfTest, CorrectCasePasses) {
+  checkOp(squareCase());
+}
 
 TEST(HarnessSelfTest, WrongReferenceFails) {
   OpCase c = squareCase();

@@ -38,14 +38,32 @@ Tensor sumToShape(const Tensor& x, const Shape& shape);
 /// The broadcast result shape of a and b; throws naming `op` and both shapes if incompatible.
 Shape broadcastShapes(const Shape& a, const Shape& b, const char* op);
 
-inline Tensor operator+(const Tensor& a, const Tensor& b) { return add(a, b); }
-inline Tensor operator-(const Tensor& a, const Tensor& b) { return sub(a, b); }
-inline Tensor operator*(const Tensor& a, const Tensor& b) { return mul(a, b); }
-inline Tensor operator/(const Tensor& a, const Tensor& b) { return div(a, b); }
-inline Tensor operator-(const Tensor& a) { return neg(a); }
-inline Tensor operator+(const Tensor& a, double s) { return addScalar(a, s); }
-inline Tensor operator-(const Tensor& a, double s) { return addScalar(a, -s); }
-inline Tensor operator*(const Tensor& a, double s) { return mulScalar(a, s); }
-inline Tensor operator*(double s, const Tensor& a) { return mulScalar(a, s); }
+inline Tensor operator+(const Tensor& a, const Tensor& b) {
+  return add(a, b);
+}
+inline Tensor operator-(const Tensor& a, const Tensor& b) {
+  return sub(a, b);
+}
+inline Tensor operator*(const Tensor& a, const Tensor& b) {
+  return mul(a, b);
+}
+inline Tensor operator/(const Tensor& a, const Tensor& b) {
+  return div(a, b);
+}
+inline Tensor operator-(const Tensor& a) {
+  return neg(a);
+}
+inline Tensor operator+(const Tensor& a, double s) {
+  return addScalar(a, s);
+}
+inline Tensor operator-(const Tensor& a, double s) {
+  return addScalar(a, -s);
+}
+inline Tensor operator*(const Tensor& a, double s) {
+  return mulScalar(a, s);
+}
+inline Tensor operator*(double s, const Tensor& a) {
+  return mulScalar(a, s);
+}
 
 } // namespace simpli::ocl

@@ -53,8 +53,7 @@ public:
   static Tensor normal(const Shape& shape, double mean, double stddev, uint64_t seed,
                        Dtype dtype = Dtype::F32);
   /// Evenly spaced values start, start+step, ... (numel = n).
-  static Tensor arange(int64_t n, double start = 0.0, double step = 1.0,
-                       Dtype dtype = Dtype::F32);
+  static Tensor arange(int64_t n, double start = 0.0, double step = 1.0, Dtype dtype = Dtype::F32);
 
   // ---- properties -----------------------------------------------------------------------
   bool defined() const { return impl_ != nullptr; }
