@@ -10,4 +10,4 @@ bash "$root/scripts/build.sh"
 exclude=(-LE slow)
 [[ "${SIMPLI_TEST_SLOW:-0}" == 1 ]] && exclude=()
 xvfb-run -a -s "-screen 0 1024x768x24 -noreset" \
-  ctest --test-dir "$build" --output-on-failure --timeout 1500 "${exclude[@]}" "$@"
+  ctest --test-dir "$build" --output-on-failure --timeout 1500 -j"${SIMPLI_JOBS:-2}" "${exclude[@]}" "$@"

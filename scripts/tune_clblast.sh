@@ -11,6 +11,8 @@
 #   -s, --size N         m = n = k of the Xgemm kernel tuning (default 512, a multiple of 128)
 #   --precisions "P..."  precisions to tune, 32 and/or 64 (default "32 64")
 #   --skip-routine       skip the direct/indirect switch-point tuning (clblast_tuner_routine_xgemm)
+#   --routine-only       only (re)tune the direct/indirect switch point, from the kernel results
+#                        already in the workdir, then convert
 #   --convert-only       do not run tuners, only convert the JSON already in the workdir
 # Needs the Debian package clblast-utils (the clblast_tuner_* programs) and python3.
 # The tuners take minutes to an hour; run it on an otherwise idle machine, because the tuners
@@ -26,8 +28,9 @@ size=512
 precisions="32 64"
 run_tuners=1
 run_routine=1
+run_kernels=1
 
-usage() { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; }
 
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -38,6 +41,7 @@ while [[ $# -gt 0 ]]; do
     -s | --size) size="$2"; shift 2 ;;
     --precisions) precisions="$2"; shift 2 ;;
     --skip-routine) run_routine=0; shift ;;
+    --routine-only) run_kernels=0; shift ;;
     --convert-only) run_tuners=0; shift ;;
     -h | --help) usage; exit 0 ;;
     *) echo "tune_clblast.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
@@ -67,15 +71,15 @@ workdir="$(cd "$workdir" && pwd)"
 cd "$workdir"
 
 tune() { # tuner-name log-name args...
-  local tuner="clblast_tuner_$1" log="$2"
+  local tuner="clblast_tuner_$1" log="$workdir/$2.log"
   shift 2
   if ! command -v "$tuner" > /dev/null; then
     echo "tune_clblast.sh: $tuner not found; install the Debian package clblast-utils" >&2
     exit 1
   fi
-  echo "[$(date +%T)] $tuner $* (log: $workdir/$log.log)"
-  "$tuner" -platform "$platform" -device "$device" "$@" > "$log.log" 2>&1 || {
-    echo "tune_clblast.sh: $tuner failed, see $workdir/$log.log" >&2
+  echo "[$(date +%T)] $tuner $* (log: $log)"
+  "$tuner" -platform "$platform" -device "$device" "$@" > "$log" 2>&1 || {
+    echo "tune_clblast.sh: $tuner failed, see $log" >&2
     exit 1
   }
 }
@@ -166,13 +170,17 @@ if routine_dir:
         with open(path, "w") as f:
             f.write("{\n")
             f.write(f"  \"kernel_family\": \"{families[kernel]}\",\n")
-            f.write(f"  \"best_parameters\": \"{params} PRECISION={precision}\"\n")
+            # CLBlast reads these files line by line and expects the tuner's exact layout:
+            # two-space indent, one field per line, a comma after each value but the last.
+            f.write(f"  \"best_parameters\": \"{params} PRECISION={precision}\",\n")
+            f.write(f"  \"precision\": \"{precision}\"\n")
             f.write("}\n")
 PYTHON
 }
 
 if (( run_tuners )); then
   for p in $precisions; do
+    (( run_kernels )) || break
     tune xgemm "xgemm_$p" -precision "$p" -m "$size" -n "$size" -k "$size"
     tune xgemm_direct "xgemm_direct_$p" -precision "$p"
     tune copy_fast "copy_$p" -precision "$p"
@@ -185,7 +193,7 @@ if (( run_tuners )); then
     # kernels, so it is tuned last, with the best kernel parameters preloaded.
     convert --routine-input "$workdir/routine"
     for p in $precisions; do
-      (cd "$workdir/routine" && tune routine_xgemm "../routine_$p" -precision "$p" -runs 3)
+      (cd "$workdir/routine" && tune routine_xgemm "routine_$p" -precision "$p" -runs 3)
       cp "$workdir/routine/clblast_gemm_routine_$p.json" "$workdir/"
     done
   fi
