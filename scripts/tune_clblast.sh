@@ -108,6 +108,10 @@ for path in sorted(glob.glob(os.path.join(workdir, "clblast_*.json"))):
     except (OSError, ValueError) as e:
         sys.exit(f"tune_clblast.sh: cannot read {path}: {e}")
     family = data.get("kernel_family", "")
+    # GEMMK=1 Xgemm variants (tuner stages xgemm_11/xgemm_12) give wrong results in CLBlast
+    # 1.5's batched GEMM (GemmStridedBatched), which simpli uses; only GEMMK=0 is kept.
+    if family in ("xgemm_11", "xgemm_12"):
+        continue
     kernel = kernel_of(family)
     if kernel is None or "best_parameters" not in data:
         continue

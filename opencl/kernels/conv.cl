@@ -13,23 +13,36 @@ inline int source_index(const int o, const int k, const int s, const int p, cons
   return (q < 0 || q >= n) ? -1 : q;
 }
 
-// Global size (Wo, rows, C * KD * KH * KW): one column entry per work item; consecutive work
-// items write consecutive columns.
+// Global size (rows, C * KD * KH * KW): one work item writes one output row (Wo consecutive
+// columns) of one column-matrix row r, so the index arithmetic is done once per row and the
+// inner loops are plain strided copies (the edges split off) that the compiler vectorises.
 __kernel void im2col3d(__global const REAL* x, const int xOff, const int C, const int D,
                        const int H, const int W, const int KD, const int KH, const int KW,
                        const int SD, const int SH, const int SW, const int PD, const int PH,
                        const int PW, const int Ho, const int Wo, const int row0, const int rows,
                        const int replicate, __global REAL* col) {
-  const int ow = get_global_id(0), rl = get_global_id(1), r = get_global_id(2);
-  if (ow >= Wo || rl >= rows || r >= C * KD * KH * KW) return;
+  const int rl = get_global_id(0), r = get_global_id(1);
+  if (rl >= rows || r >= C * KD * KH * KW) return;
   const int l = r % KW, j = (r / KW) % KH, i = (r / (KW * KH)) % KD, c = r / (KW * KH * KD);
   const int row = row0 + rl, od = row / Ho, oh = row % Ho;
   const int z = source_index(od, i, SD, PD, D, replicate);
   const int y = source_index(oh, j, SH, PH, H, replicate);
-  const int xx = source_index(ow, l, SW, PW, W, replicate);
-  REAL v = 0;
-  if (z >= 0 && y >= 0 && xx >= 0) v = x[xOff + ((c * D + z) * H + y) * W + xx];
-  col[(long)r * (rows * Wo) + rl * Wo + ow] = v;
+  __global REAL* out = col + (long)r * (rows * Wo) + rl * Wo;
+  if (z < 0 || y < 0) { // a zero-padding row
+    for (int ow = 0; ow < Wo; ++ow) out[ow] = 0;
+    return;
+  }
+  __global const REAL* in = x + xOff + ((c * D + z) * H + y) * W;
+  // Columns ow with 0 <= ow * SW - PW + l < W read inside the row: [lo, hi).
+  const int first = PW - l;
+  const int lo = clamp(first > 0 ? (first + SW - 1) / SW : 0, 0, Wo);
+  const int last = W - 1 + PW - l; // may be negative: no column reads inside then
+  const int hi = clamp(last < 0 ? 0 : last / SW + 1, lo, Wo);
+  const REAL left = replicate ? in[0] : 0, right = replicate ? in[W - 1] : 0;
+  for (int ow = 0; ow < lo; ++ow) out[ow] = left;
+  __global const REAL* src = in + l - PW;
+  for (int ow = lo; ow < hi; ++ow) out[ow] = src[ow * SW];
+  for (int ow = hi; ow < Wo; ++ow) out[ow] = right;
 }
 
 inline int floor_div(const int a, const int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }

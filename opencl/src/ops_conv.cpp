@@ -138,7 +138,7 @@ void im2col(const Geometry& g, const Tensor& x, int64_t n, int64_t row0, int64_t
       .arg(static_cast<int>(rows))
       .arg(g.replicate ? 1 : 0)
       .arg(col)
-      .run3(g.Wo, rows, g.ck());
+      .run2(rows, g.ck(), 4, 16);
 }
 
 // Input coordinates [lo, hi] that outputs o0..o1 read along one axis.

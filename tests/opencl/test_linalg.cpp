@@ -79,6 +79,11 @@ TEST(Linalg, MatmulLargeEnoughForTheIndirectKernel) {
   checkMatmul({{130, 301}, {301, 257}, false, false}, 8);
   checkMatmul({{301, 130}, {257, 301}, true, true}, 8);
   checkMatmul({{3, 70, 129}, {3, 129, 66}, false, false}, 8);
+  // Batched GEMMs past the switch point of both precisions (m n k > 256^3 in the shipped
+  // table), also with a shared operand (stride 0) and transposes.
+  checkMatmul({{2, 260, 257}, {2, 257, 258}, false, false}, 6);
+  checkMatmul({{2, 257, 260}, {257, 258}, true, false}, 6);
+  checkMatmul({{260, 257}, {2, 258, 257}, false, true}, 6);
 }
 
 TEST(Linalg, BatchedAndBroadcastMatmul) {
