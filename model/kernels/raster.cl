@@ -531,37 +531,7 @@ __kernel void raster_shade_forward(const int H, const int W, const int A, const 
     out[(A + 1 + k) * plane + pix] = k < n ? w[k] : (REAL)0;
 }
 
-// Float atomic add through compare-and-swap on the bit pattern (OpenCL 1.2 has none).
-#if REAL_IS_DOUBLE
-#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
-inline void raster_atomic_add(__global REAL* p, const REAL v) {
-  volatile __global long* bits = (volatile __global long*)p;
-  union {
-    long i;
-    double f;
-  } old, upd;
-  long seen = *bits;
-  do {
-    old.i = seen;
-    upd.f = old.f + v;
-    seen = atom_cmpxchg(bits, old.i, upd.i);
-  } while (seen != old.i);
-}
-#else
-inline void raster_atomic_add(__global REAL* p, const REAL v) {
-  volatile __global int* bits = (volatile __global int*)p;
-  union {
-    int i;
-    float f;
-  } old, upd;
-  int seen = *bits;
-  do {
-    old.i = seen;
-    upd.f = old.f + v;
-    seen = atomic_cmpxchg(bits, old.i, upd.i);
-  } while (seen != old.i);
-}
-#endif
+// atomic_add_real comes from the engine's common.cl.
 
 // Gradients of raster_shade_forward. One item per pixel recomputes its fragments and scatters
 // into gattr [L, A, H, W] and gdepth [L, H, W] (both zeroed by the host) with atomic adds.
@@ -622,7 +592,7 @@ __kernel void raster_shade_backward(const int H, const int W, const int A, const
         f += lam[3 * k + i] * val;
         gl[3 * k + i] += w[k] * g * val;
         if (wantAttr)
-          raster_atomic_add(gattr + idx, lam[3 * k + i] * w[k] * g);
+          atomic_add_real(gattr + idx, lam[3 * k + i] * w[k] * g);
       }
       s[k] += g * f;
     }
@@ -640,7 +610,7 @@ __kernel void raster_shade_backward(const int H, const int W, const int A, const
         const int idx = vv[3 * k + i] + (A - 1) * HW;
         gl[3 * k + i] += ga * attrs[idx];
         if (wantAttr)
-          raster_atomic_add(gattr + idx, lam[3 * k + i] * ga);
+          atomic_add_real(gattr + idx, lam[3 * k + i] * ga);
       }
     }
     rsum = s[k] * al[k] + q * rsum;
@@ -704,7 +674,7 @@ __kernel void raster_shade_backward(const int H, const int W, const int A, const
       const REAL dyd = (prm[PRM_FY] * ay - (T.y[i] - prm[PRM_CY]) * az) / T.z[i];
       const REAL gd = gx[i] * dxd + gy[i] * dyd + gzv[i] * az;
       if (gd != 0)
-        raster_atomic_add(gdepth + v, gd);
+        atomic_add_real(gdepth + v, gd);
     }
   }
 }

@@ -161,69 +161,8 @@ __kernel void resize_backward(const int planes, const int in_h, const int in_w, 
 
 // ---- grid sampling --------------------------------------------------------------------------
 
-// Float atomic add through compare-and-swap on the bit pattern (OpenCL 1.2 has no float
-// atomics); the double version needs cl_khr_int64_base_atomics.
-#if REAL_IS_DOUBLE
-#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
-inline void atomic_add_real(__global REAL* p, const REAL v) {
-  volatile __global long* bits = (volatile __global long*)p;
-  union {
-    long i;
-    double f;
-  } expected, desired;
-  long current = *bits;
-  do {
-    expected.i = current;
-    desired.f = expected.f + v;
-    current = atom_cmpxchg(bits, expected.i, desired.i);
-  } while (current != expected.i);
-}
-#else
-inline void atomic_add_real(__global REAL* p, const REAL v) {
-  volatile __global int* bits = (volatile __global int*)p;
-  union {
-    int i;
-    float f;
-  } expected, desired;
-  int current = *bits;
-  do {
-    expected.i = current;
-    desired.f = expected.f + v;
-    current = atomic_cmpxchg(bits, expected.i, desired.i);
-  } while (current != expected.i);
-}
-#endif
-
-// The four taps of one sample point: top-left corner, fractions, and which taps are inside.
-typedef struct {
-  int off00, off01, off10, off11; // offsets within a channel plane (valid taps only)
-  REAL tx, ty;
-  bool v00, v01, v10, v11;
-} Taps;
-
-// Returns false when the point is far outside the image (or NaN): then every tap is outside,
-// and the early exit also keeps the float-to-int conversion in range.
-inline bool grid_taps(const REAL gx, const REAL gy, const int h, const int w, Taps* t) {
-  // align_corners = False: g = -1 and +1 are the outer edges of the border pixels.
-  const REAL sx = ((gx + 1) * w - 1) / 2;
-  const REAL sy = ((gy + 1) * h - 1) / 2;
-  if (!(sx > -2 && sx < w + 1 && sy > -2 && sy < h + 1)) return false;
-  const REAL fx = floor(sx), fy = floor(sy);
-  const int x0 = (int)fx, y0 = (int)fy;
-  t->tx = sx - fx;
-  t->ty = sy - fy;
-  const bool vx0 = x0 >= 0 && x0 < w, vx1 = x0 + 1 >= 0 && x0 + 1 < w;
-  const bool vy0 = y0 >= 0 && y0 < h, vy1 = y0 + 1 >= 0 && y0 + 1 < h;
-  t->v00 = vy0 && vx0;
-  t->v01 = vy0 && vx1;
-  t->v10 = vy1 && vx0;
-  t->v11 = vy1 && vx1;
-  t->off00 = y0 * w + x0;
-  t->off01 = t->off00 + 1;
-  t->off10 = t->off00 + w;
-  t->off11 = t->off10 + 1;
-  return true;
-}
+// Bilinear taps (Taps, make_taps, gather, gather_grad, scatter) and atomic_add_real come from
+// common.cl.
 
 // x [n, c, h, w], grid [n, oh, ow, 2] (x, y in [-1, 1]) -> out [n, c, oh, ow].
 // Items over (output column, output row, batch); each loops over the channels.
@@ -236,23 +175,10 @@ __kernel void grid_sample_forward(const int n, const int c, const int h, const i
   const int out_plane = oh * ow, in_plane = h * w;
   __global REAL* o = out + b * c * out_plane + p * ow + q;
   Taps t;
-  if (!grid_taps(grid[2 * point], grid[2 * point + 1], h, w, &t)) {
-    for (int ch = 0; ch < c; ++ch)
-      o[ch * out_plane] = 0;
-    return;
-  }
-  const REAL w00 = (1 - t.ty) * (1 - t.tx), w01 = (1 - t.ty) * t.tx;
-  const REAL w10 = t.ty * (1 - t.tx), w11 = t.ty * t.tx;
+  make_taps(grid[2 * point], grid[2 * point + 1], h, w, &t);
   __global const REAL* xb = x + b * c * in_plane;
-  for (int ch = 0; ch < c; ++ch) {
-    __global const REAL* pl = xb + ch * in_plane;
-    REAL v = 0;
-    if (t.v00) v += w00 * pl[t.off00];
-    if (t.v01) v += w01 * pl[t.off01];
-    if (t.v10) v += w10 * pl[t.off10];
-    if (t.v11) v += w11 * pl[t.off11];
-    o[ch * out_plane] = v;
-  }
+  for (int ch = 0; ch < c; ++ch)
+    o[ch * out_plane] = gather(xb + ch * in_plane, &t);
 }
 
 // Gradients of grid_sample_forward: to the input (scattered with atomic adds, since any number
@@ -268,32 +194,18 @@ __kernel void grid_sample_backward(const int n, const int c, const int h, const 
   const int point = (b * oh + p) * ow + q;
   const int out_plane = oh * ow, in_plane = h * w;
   Taps t;
-  if (!grid_taps(grid[2 * point], grid[2 * point + 1], h, w, &t)) {
-    if (want_grid) {
-      ggrid[2 * point] = 0;
-      ggrid[2 * point + 1] = 0;
-    }
-    return;
-  }
-  const REAL w00 = (1 - t.ty) * (1 - t.tx), w01 = (1 - t.ty) * t.tx;
-  const REAL w10 = t.ty * (1 - t.tx), w11 = t.ty * t.tx;
+  make_taps(grid[2 * point], grid[2 * point + 1], h, w, &t);
   __global const REAL* gb = g + b * c * out_plane + p * ow + q;
   REAL dx = 0, dy = 0;
   for (int ch = 0; ch < c; ++ch) {
     const REAL go = gb[ch * out_plane];
     const int base = (b * c + ch) * in_plane;
-    if (want_input) {
-      if (t.v00) atomic_add_real(gx + base + t.off00, w00 * go);
-      if (t.v01) atomic_add_real(gx + base + t.off01, w01 * go);
-      if (t.v10) atomic_add_real(gx + base + t.off10, w10 * go);
-      if (t.v11) atomic_add_real(gx + base + t.off11, w11 * go);
-    }
+    if (want_input) scatter(gx + base, &t, go);
     if (want_grid) {
-      __global const REAL* pl = x + base;
-      const REAL i00 = t.v00 ? pl[t.off00] : 0, i01 = t.v01 ? pl[t.off01] : 0;
-      const REAL i10 = t.v10 ? pl[t.off10] : 0, i11 = t.v11 ? pl[t.off11] : 0;
-      dx += go * ((1 - t.ty) * (i01 - i00) + t.ty * (i11 - i10));
-      dy += go * ((1 - t.tx) * (i10 - i00) + t.tx * (i11 - i01));
+      REAL dsx, dsy;
+      gather_grad(x + base, &t, &dsx, &dsy);
+      dx += go * dsx;
+      dy += go * dsy;
     }
   }
   if (want_grid) {

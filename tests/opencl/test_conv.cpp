@@ -2,6 +2,7 @@
 // modes, with and without bias, 1x1 and 3x3(x3) kernels, column blocks of one row or spanning
 // several depth slices; bad use; the column memory bound.
 #include "op_harness.h"
+#include "test_support.h"
 
 #include <simpli/error.h>
 #include <simpli/ocl/autograd.h>
@@ -186,19 +187,6 @@ TEST(Conv, ColumnBlocksBoundDeviceMemory) {
       << "peak " << pool.stats().peakBytes - before << " bytes above the inputs";
   ocl::setConvColumnBudget(previous);
 }
-
-namespace {
-void expectError(const std::function<void()>& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "expected simpli::Error";
-  } catch (const Error& e) {
-    for (const auto& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-          << "message '" << e.what() << "' lacks '" << p << "'";
-  }
-}
-} // namespace
 
 TEST(Conv, BadUseNamesOpAndShapes) {
   using ocl::Tensor;

@@ -1,6 +1,7 @@
 // The sinusoidal positional code through the harness (odd and size-1 shapes, odd D), its
 // host-vector form at SIMPLI's settings, and bad use.
 #include "op_harness.h"
+#include "test_support.h"
 
 #include <simpli/error.h>
 #include <simpli/ocl/ops_encoding.h>
@@ -27,17 +28,6 @@ std::vector<double> codeRef(const std::vector<double>& pos, int d) {
     for (int c = 0; c < d; ++c)
       out.push_back(code(n, c, d));
   return out;
-}
-
-void expectError(const std::function<void()>& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "expected simpli::Error";
-  } catch (const Error& e) {
-    for (const auto& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-          << "message '" << e.what() << "' lacks '" << p << "'";
-  }
 }
 
 } // namespace

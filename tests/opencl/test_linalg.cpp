@@ -1,6 +1,7 @@
 // matmul (plain, transposed, batched, broadcast batches) and linear through the harness; the
 // CLBlast tuning table parser and its device matching.
 #include "op_harness.h"
+#include "test_support.h"
 
 #include "../../opencl/src/tuning.h" // internal: the tuning-table parser under test
 
@@ -150,19 +151,6 @@ TEST(Linalg, EmptyInnerDimensionGivesZeros) {
     EXPECT_EQ(v, 0.0);
   EXPECT_EQ(ocl::matmul(ocl::Tensor::zeros({0, 4}), ocl::Tensor::zeros({4, 2})).numel(), 0);
 }
-
-namespace {
-void expectError(const std::function<void()>& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "expected simpli::Error";
-  } catch (const Error& e) {
-    for (const auto& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-          << "message '" << e.what() << "' lacks '" << p << "'";
-  }
-}
-} // namespace
 
 TEST(Linalg, BadUseNamesOpAndShapes) {
   using ocl::Tensor;

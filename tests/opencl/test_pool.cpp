@@ -1,6 +1,7 @@
 // Max and average pooling through the harness (odd sizes, overlapping windows, leftover rows,
 // size-1 dims), tie and NaN behaviour of max pooling, and bad use.
 #include "op_harness.h"
+#include "test_support.h"
 
 #include <simpli/error.h>
 #include <simpli/ocl/autograd.h>
@@ -60,17 +61,6 @@ Shape outShapeOf(const PoolCase& k) {
   s[s.size() - 2] = (s[s.size() - 2] - k.kh) / k.sh + 1;
   s.back() = (s.back() - k.kw) / k.sw + 1;
   return s;
-}
-
-void expectError(const std::function<void()>& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "expected simpli::Error";
-  } catch (const Error& e) {
-    for (const auto& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-          << "message '" << e.what() << "' lacks '" << p << "'";
-  }
 }
 
 } // namespace

@@ -2,6 +2,7 @@
 // direct per-output loop, the vector blocks (contiguous long axes, with < 4 tail elements) and
 // the split axis (few outputs, long strided axis).
 #include "op_harness.h"
+#include "test_support.h"
 
 #include <simpli/error.h>
 #include <simpli/ocl/autograd.h>
@@ -18,20 +19,6 @@ using namespace simpli::test;
 using ocl::Dtype;
 
 namespace {
-
-// Worst errors over a test's harness cases, printed once per test (for the logs).
-struct WorstErrors {
-  const char* what;
-  double forward = 0.0, gradient = 0.0;
-  void add(const OpReport& r) {
-    forward = std::max(forward, r.forwardError);
-    gradient = std::max(gradient, r.gradientError);
-  }
-  ~WorstErrors() {
-    std::printf("%s: worst f32 forward error %.2e, worst f64 gradient error %.2e\n", what, forward,
-                gradient);
-  }
-};
 
 // f over the axis of x viewed as [outer, n, inner]: f(values) per output.
 std::vector<double> axisRef(const std::vector<double>& x, const Shape& s, int axis,

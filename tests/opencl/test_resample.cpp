@@ -2,6 +2,7 @@
 // references written from PyTorch's formulas, plus the spec's bicubic weights (delta images),
 // grid points exactly on the border and far outside, the validity mask, and bad use.
 #include "op_harness.h"
+#include "test_support.h"
 
 #include <simpli/error.h>
 #include <simpli/ocl/autograd.h>
@@ -117,17 +118,6 @@ std::vector<double> gridSampleRef(const std::vector<double>& x, const Shape& xs,
         }
       }
   return out;
-}
-
-void expectError(const std::function<void()>& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "expected simpli::Error";
-  } catch (const Error& e) {
-    for (const auto& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-          << "message '" << e.what() << "' lacks '" << p << "'";
-  }
 }
 
 struct ResizeCase {

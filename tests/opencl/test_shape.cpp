@@ -1,6 +1,7 @@
 // Shape ops through the harness (slice, concat, permute/transpose, pad, indexSelect,
 // squeeze/unsqueeze) on odd shapes with size-1 dimensions up to rank 6, and their bad use.
 #include "op_harness.h"
+#include "test_support.h"
 
 #include <simpli/error.h>
 #include <simpli/ocl/autograd.h>
@@ -45,17 +46,6 @@ std::vector<double> gatherRef(const Shape& outShape,
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = source(coordsOf(static_cast<int64_t>(i), outShape));
   return out;
-}
-
-void expectError(const std::function<void()>& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "expected simpli::Error";
-  } catch (const Error& e) {
-    for (const auto& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-          << "message '" << e.what() << "' lacks '" << p << "'";
-  }
 }
 
 } // namespace

@@ -1,6 +1,7 @@
 // Softmax and log-sum-exp through the harness (every axis position, size-1 axes), extremes
 // (logits of +-1e4 and +-1e30 stay finite and give the right one-hot) and bad use.
 #include "op_harness.h"
+#include "test_support.h"
 
 #include <simpli/error.h>
 #include <simpli/ocl/autograd.h>
@@ -20,20 +21,6 @@ using namespace simpli::test;
 using ocl::Dtype;
 
 namespace {
-
-// Worst errors over a test's harness cases, printed once per test (for the logs).
-struct WorstErrors {
-  const char* what;
-  double forward = 0.0, gradient = 0.0;
-  void add(const OpReport& r) {
-    forward = std::max(forward, r.forwardError);
-    gradient = std::max(gradient, r.gradientError);
-  }
-  ~WorstErrors() {
-    std::printf("%s: worst f32 forward error %.2e, worst f64 gradient error %.2e\n", what, forward,
-                gradient);
-  }
-};
 
 struct Split {
   int64_t outer = 1, n = 1, inner = 1;
