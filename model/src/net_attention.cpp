@@ -3,6 +3,7 @@
 
 #include "simpli/error.h"
 
+#include <simpli/ocl/ops_attention.h>
 #include <simpli/ocl/ops_elementwise.h>
 #include <simpli/ocl/ops_encoding.h>
 #include <simpli/ocl/ops_linalg.h>
@@ -58,7 +59,11 @@ ocl::Tensor MultiHeadAttention::forward(const ocl::Tensor& queries, const ocl::T
     const ocl::Tensor k = ocl::linear(keysValues, rows(wk_)); // [N, nk, d]
     const ocl::Tensor v = ocl::linear(keysValues, rows(wv_));
     ocl::Tensor o, a;
-    if (shared) {
+    if (!attention) {
+      // The fused kernel: one work item per query, no [N, nq, nk] score tensors (the composed
+      // form below costs one tiny GEMM per sequence, ~100x slower for per-pixel sequences).
+      o = ocl::attention(q, k, v, 1.0);
+    } else if (shared) {
       // Shared queries (anchors): the scores of all rays are one GEMM, K [N*nk, d] x q^T,
       // giving [N, nk, nq]; the softmax runs over the keys (axis 1).
       const ocl::Tensor at = ocl::softmax(ocl::matmul(k, q, false, true), 1);

@@ -99,6 +99,8 @@ TEST_P(GoldenMicro, ViewAttention) {
   const Tensor out = attention.forward(in("attn_view.in"), &maps);
   check("attn_view", out, "attn_view.out");
   check("attn_view", maps, "attn_view.attn");
+  // Without maps the fused attention kernel runs instead of the composed GEMMs.
+  check("attn_view", attention.forward(in("attn_view.in")), "attn_view.out");
 }
 
 TEST_P(GoldenMicro, AnchoredRayAttention) {
