@@ -114,24 +114,18 @@ int64_t rowsPerBlock(const Geometry& g, Dtype dtype) {
                                                         std::max<int64_t>(perRow, 1)));
 }
 
+// The kernels' shared argument run: input sizes, kernel sizes, strides, paddings.
+Launch& geometryArgs(Launch& launch, const Geometry& g) {
+  for (int64_t v : {g.C, g.D, g.H, g.W, g.KD, g.KH, g.KW, g.SD, g.SH, g.SW, g.PD, g.PH, g.PW})
+    launch.arg(static_cast<int>(v));
+  return launch;
+}
+
 void im2col(const Geometry& g, const Tensor& x, int64_t n, int64_t row0, int64_t rows,
             const Tensor& col) {
-  Launch("conv", "im2col3d", x.dtype())
-      .arg(x)
-      .arg(static_cast<int>(n * g.C * g.inP()))
-      .arg(static_cast<int>(g.C))
-      .arg(static_cast<int>(g.D))
-      .arg(static_cast<int>(g.H))
-      .arg(static_cast<int>(g.W))
-      .arg(static_cast<int>(g.KD))
-      .arg(static_cast<int>(g.KH))
-      .arg(static_cast<int>(g.KW))
-      .arg(static_cast<int>(g.SD))
-      .arg(static_cast<int>(g.SH))
-      .arg(static_cast<int>(g.SW))
-      .arg(static_cast<int>(g.PD))
-      .arg(static_cast<int>(g.PH))
-      .arg(static_cast<int>(g.PW))
+  Launch launch("conv", "im2col3d", x.dtype());
+  launch.arg(x).arg(static_cast<int>(n * g.C * g.inP()));
+  geometryArgs(launch, g)
       .arg(static_cast<int>(g.Ho))
       .arg(static_cast<int>(g.Wo))
       .arg(static_cast<int>(row0))
@@ -156,21 +150,8 @@ void col2im(const Geometry& g, const Tensor& col, int64_t n, int64_t row0, int64
   if (od0 == od1)
     std::tie(h0, h1) = inputSpan(row0 % g.Ho, (row0 + rows - 1) % g.Ho, g.SH, g.PH, g.KH, g.H);
   const int64_t dCount = d1 - d0 + 1, hCount = h1 - h0 + 1;
-  Launch("conv", "col2im3d", col.dtype())
-      .arg(col)
-      .arg(static_cast<int>(g.C))
-      .arg(static_cast<int>(g.D))
-      .arg(static_cast<int>(g.H))
-      .arg(static_cast<int>(g.W))
-      .arg(static_cast<int>(g.KD))
-      .arg(static_cast<int>(g.KH))
-      .arg(static_cast<int>(g.KW))
-      .arg(static_cast<int>(g.SD))
-      .arg(static_cast<int>(g.SH))
-      .arg(static_cast<int>(g.SW))
-      .arg(static_cast<int>(g.PD))
-      .arg(static_cast<int>(g.PH))
-      .arg(static_cast<int>(g.PW))
+  Launch launch("conv", "col2im3d", col.dtype());
+  geometryArgs(launch.arg(col), g)
       .arg(static_cast<int>(g.Do))
       .arg(static_cast<int>(g.Ho))
       .arg(static_cast<int>(g.Wo))
