@@ -186,17 +186,25 @@ std::vector<unsigned char> SafeTensorsReader::readRaw(const std::string& key,
   return bytes;
 }
 
+namespace {
+// Little-endian values of one tensor's raw bytes (sizes were checked against the shape when
+// the header was parsed).
+template <typename T>
+HostTensor<T> decodeTensor(const SafeTensorInfo& info, const std::vector<unsigned char>& raw) {
+  HostTensor<T> t;
+  t.shape = info.shape;
+  t.data.resize(raw.size() / sizeof(T));
+  for (size_t k = 0; k < t.data.size(); ++k)
+    t.data[k] = decode<T>(raw.data() + sizeof(T) * k);
+  return t;
+}
+} // namespace
+
 HostTensor<float> SafeTensorsReader::readF32(const std::string& key) const {
   const SafeTensorInfo& i = info(key);
   if (i.dtype != "F32")
     fail("safetensors file '", path_, "', tensor '", key, "': dtype ", i.dtype, ", expected F32");
-  const auto raw = readRaw(key, i);
-  HostTensor<float> t;
-  t.shape = i.shape;
-  t.data.resize(raw.size() / 4);
-  for (size_t k = 0; k < t.data.size(); ++k)
-    t.data[k] = decode<float>(raw.data() + 4 * k);
-  return t;
+  return decodeTensor<float>(i, readRaw(key, i));
 }
 
 HostTensor<double> SafeTensorsReader::readF64(const std::string& key) const {
@@ -211,24 +219,14 @@ HostTensor<double> SafeTensorsReader::readF64(const std::string& key) const {
   if (i.dtype != "F64")
     fail("safetensors file '", path_, "', tensor '", key, "': dtype ", i.dtype,
          ", expected F64 or F32");
-  const auto raw = readRaw(key, i);
-  t.data.resize(raw.size() / 8);
-  for (size_t k = 0; k < t.data.size(); ++k)
-    t.data[k] = decode<double>(raw.data() + 8 * k);
-  return t;
+  return decodeTensor<double>(i, readRaw(key, i));
 }
 
 HostTensor<int64_t> SafeTensorsReader::readI64(const std::string& key) const {
   const SafeTensorInfo& i = info(key);
   if (i.dtype != "I64")
     fail("safetensors file '", path_, "', tensor '", key, "': dtype ", i.dtype, ", expected I64");
-  const auto raw = readRaw(key, i);
-  HostTensor<int64_t> t;
-  t.shape = i.shape;
-  t.data.resize(raw.size() / 8);
-  for (size_t k = 0; k < t.data.size(); ++k)
-    t.data[k] = decode<int64_t>(raw.data() + 8 * k);
-  return t;
+  return decodeTensor<int64_t>(i, readRaw(key, i));
 }
 
 namespace {
