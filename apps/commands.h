@@ -11,4 +11,5 @@ void addBenchCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addMakeSceneCommand(CLI::App& app);
 void addConvertCommand(CLI::App& app);
+void addRenderCommand(CLI::App& app);
 } // namespace simpli::app

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   simpli::app::addInfoCommand(app);
   simpli::app::addMakeSceneCommand(app);
   simpli::app::addConvertCommand(app);
+  simpli::app::addRenderCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -8,13 +8,17 @@ import os
 import sys
 
 import vtkmodules.all  # noqa: F401  (the whole of VTK first, as users do)
-from simpli import vtkSIMPLILayerGridSource
+from simpli import vtkSIMPLILayerGridSource, vtkSIMPLIRenderView, vtkSIMPLISceneReader
 import simpli
 
 expected_root = os.path.realpath(sys.argv[1])
 package_file = os.path.realpath(simpli.__file__)
 assert package_file.startswith(expected_root + os.sep), (
     f"simpli was imported from {package_file}, expected under {expected_root}")
+
+# The scene reader and the render view are wrapped too (their tests: python_scene_render.py).
+assert vtkSIMPLISceneReader().GetOutputPortInformation(1) is not None
+assert vtkSIMPLIRenderView().GetNumberOfInputPorts() == 2
 
 src = vtkSIMPLILayerGridSource()
 src.SetWidth(6)
