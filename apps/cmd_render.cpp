@@ -99,6 +99,22 @@ std::string frameName(const char* prefix, int i) {
   return buf;
 }
 
+// Removes rgb_NNN.png / depth_NNN.png frames with NNN >= frames, left by an earlier, longer
+// render into the same folder (so the folder matches render.json). Other files are kept.
+int removeStaleFrames(const fs::path& out, size_t frames) {
+  static const std::regex pattern(R"((rgb|depth)_(\d{1,9})\.png)");
+  int removed = 0;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(out, ec)) {
+    std::smatch m;
+    const std::string name = entry.path().filename().string();
+    if (std::regex_match(name, m, pattern) && std::stoull(m[2].str()) >= frames &&
+        fs::remove(entry.path(), ec))
+      ++removed;
+  }
+  return removed;
+}
+
 nlohmann::json cameraJson(const Camera& c) {
   nlohmann::json j;
   std::vector<double> e, k;
@@ -228,6 +244,8 @@ void runRender(const RenderOptions& o) {
   }
   const std::string text = meta.dump(2) + "\n";
   writeAtomically(out / "render.json", std::vector<uchar>(text.begin(), text.end()));
+  if (const int stale = removeStaleFrames(out, cameras.size()))
+    std::printf("removed %d frame file(s) of an earlier render from %s\n", stale, o.out.c_str());
   std::printf("rendered %zu frame(s) of %s (%d layers) at %d x %d -> %s\n", cameras.size(),
               o.mli.c_str(), mli.numLayers(), cameras[0].width, cameras[0].height, o.out.c_str());
   if (clamped > 0)
