@@ -1,0 +1,32 @@
+#pragma once
+// From a scene read from disk (scene_readers.h) to the generator's input: the chosen source
+// views' images as one [V, 3, H, W] tensor, their cameras, and the virtual reference camera
+// (the pose average of the sources, simpli_reference.md §6.1) at the sources' size.
+#include "simpli/model/generator/generator.h"
+#include "simpli/model/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace simpli {
+
+/// Where the planes' depth range comes from.
+enum class DepthRangeSource {
+  Config, ///< the network config's min/max depth (1..100 in the reference; what it trained on)
+  Scene   ///< the scene's near/far bounds (normalised units): planes only where the scene is
+};
+
+struct SceneInputOptions {
+  std::vector<int> views; ///< source view indices; empty = every view
+  DepthRangeSource depthRange = DepthRangeSource::Config;
+  ocl::Dtype dtype = ocl::Dtype::F32;
+};
+
+/// Throws simpli::Error naming the scene and the index for a view out of range, a repeated
+/// view, an empty scene or views of different sizes.
+GeneratorInput sceneInput(const Scene& scene, const SceneInputOptions& options = {});
+
+/// The views sceneInput uses (options.views, or all), validated as sceneInput does.
+std::vector<int> sceneInputViews(const Scene& scene, const std::vector<int>& views);
+
+} // namespace simpli
