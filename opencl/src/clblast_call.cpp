@@ -3,6 +3,7 @@
 #include "simpli/error.h"
 #include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
+#include "simpli/ocl/profiler.h"
 
 #include <clblast.h>
 
@@ -46,6 +47,7 @@ void gemmT(const char* op, int64_t m, int64_t n, int64_t k, double alpha, const 
   check(status, op, "GemmTempBufferSize", m, n, k, 1);
   if (tempBytes > 0)
     temp = device.pool().acquire(tempBytes);
+  const Profiler::Scope profile("clblast.Gemm");
   status = clblast::Gemm<T>(clblast::Layout::kRowMajor, transOf(a.trans), transOf(b.trans), M, N, K,
                             static_cast<T>(alpha), a.mem, a.offset, a.ld, b.mem, b.offset, b.ld,
                             static_cast<T>(beta), c, cOffset, ldc, &queue, nullptr,
@@ -58,6 +60,7 @@ void batchedT(const char* op, int64_t m, int64_t n, int64_t k, double alpha, con
               std::size_t strideA, const Operand& b, std::size_t strideB, double beta, cl_mem c,
               std::size_t cOffset, std::size_t ldc, std::size_t strideC, int64_t batch) {
   cl_command_queue queue = Device::current().queue();
+  const Profiler::Scope profile("clblast.GemmStridedBatched");
   const auto status = clblast::GemmStridedBatched<T>(
       clblast::Layout::kRowMajor, transOf(a.trans), transOf(b.trans), static_cast<std::size_t>(m),
       static_cast<std::size_t>(n), static_cast<std::size_t>(k), static_cast<T>(alpha), a.mem,

@@ -1,6 +1,7 @@
 #include "launch.h"
 
 #include "simpli/error.h"
+#include "simpli/ocl/profiler.h"
 
 #include <limits>
 
@@ -85,6 +86,7 @@ void Launch::run3(int64_t n0, int64_t n1, int64_t n2, std::size_t l0, std::size_
 }
 
 void Launch::enqueue(cl_uint dims, const std::size_t* global, const std::size_t* local) {
+  const Profiler::Scope profile(Profiler::enabled() ? name_ : std::string());
   cl_int status = clEnqueueNDRangeKernel(Device::current().queue(), kernel_, dims, nullptr, global,
                                          local, 0, nullptr, nullptr);
   checkCl(status, name_.c_str());
