@@ -225,10 +225,18 @@ void runOps(int repeat, bool quick, const std::string& selector) {
     printRow(benchGemm(2048, 4096, 32, warmup, repeat));
     printRow(benchConv({32, 1, 192, 256, 32, 3, false, false}, warmup, repeat, threads));
     printRow(benchConv({36, 41, 96, 128, 32, 3, true, true}, warmup, repeat, threads));
+    // Skinny shapes of the small configs (one dimension <= 32: the engine's own GEMM kernels
+    // unless SIMPLI_GEMM_SKINNY=0): a 16-channel 3x3 conv at 128x192 and a per-pixel linear
+    // layer 7 -> 16 over 4 layers of 128x192.
+    printRow(benchGemm(16, 24576, 144, warmup, repeat));
+    printRow(benchGemm(98304, 16, 7, warmup, repeat));
+    printRow(benchConv({16, 1, 128, 192, 16, 3, false, false}, warmup, repeat, threads));
   }
 }
 
 } // namespace
+
+void addBenchInferCommand(CLI::App& bench); // cmd_bench_infer.cpp
 
 void addBenchCommand(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Measure speed against reference implementations");
@@ -245,6 +253,7 @@ void addBenchCommand(CLI::App& app) {
                   "Device as platform:device (default: $SIMPLI_CL_DEVICE, else first GPU, "
                   "else first CPU)");
   ops->callback([repeat, quick, selector] { runOps(*repeat, *quick, *selector); });
+  addBenchInferCommand(*bench);
 }
 
 } // namespace simpli::app

@@ -1,5 +1,7 @@
 #include "clblast_call.h"
 
+#include "gemm_skinny.h"
+
 #include "simpli/error.h"
 #include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
@@ -29,6 +31,13 @@ void checkSizes(const char* op, int64_t m, int64_t n, int64_t k) {
     fail(op, ": negative GEMM size m=", m, " n=", n, " k=", k);
 }
 
+// Profile entry name with the GEMM's shape ("clblast.Gemm NT 16x24576x144").
+std::string gemmName(const char* what, const Operand& a, const Operand& b, int64_t m, int64_t n,
+                     int64_t k) {
+  return std::string(what) + " " + (a.trans ? "T" : "N") + (b.trans ? "T" : "N") + " " +
+         std::to_string(m) + "x" + std::to_string(n) + "x" + std::to_string(k);
+}
+
 template <typename T>
 void gemmT(const char* op, int64_t m, int64_t n, int64_t k, double alpha, const Operand& a,
            const Operand& b, double beta, cl_mem c, std::size_t cOffset, std::size_t ldc) {
@@ -47,7 +56,8 @@ void gemmT(const char* op, int64_t m, int64_t n, int64_t k, double alpha, const 
   check(status, op, "GemmTempBufferSize", m, n, k, 1);
   if (tempBytes > 0)
     temp = device.pool().acquire(tempBytes);
-  const Profiler::Scope profile("clblast.Gemm");
+  const Profiler::Scope profile(Profiler::enabled() ? gemmName("clblast.Gemm", a, b, m, n, k)
+                                                    : std::string());
   status = clblast::Gemm<T>(clblast::Layout::kRowMajor, transOf(a.trans), transOf(b.trans), M, N, K,
                             static_cast<T>(alpha), a.mem, a.offset, a.ld, b.mem, b.offset, b.ld,
                             static_cast<T>(beta), c, cOffset, ldc, &queue, nullptr,
@@ -60,7 +70,10 @@ void batchedT(const char* op, int64_t m, int64_t n, int64_t k, double alpha, con
               std::size_t strideA, const Operand& b, std::size_t strideB, double beta, cl_mem c,
               std::size_t cOffset, std::size_t ldc, std::size_t strideC, int64_t batch) {
   cl_command_queue queue = Device::current().queue();
-  const Profiler::Scope profile("clblast.GemmStridedBatched");
+  const Profiler::Scope profile(Profiler::enabled()
+                                    ? gemmName("clblast.GemmStridedBatched", a, b, m, n, k) + " x" +
+                                          std::to_string(batch)
+                                    : std::string());
   const auto status = clblast::GemmStridedBatched<T>(
       clblast::Layout::kRowMajor, transOf(a.trans), transOf(b.trans), static_cast<std::size_t>(m),
       static_cast<std::size_t>(n), static_cast<std::size_t>(k), static_cast<T>(alpha), a.mem,
@@ -76,6 +89,8 @@ void gemm(const char* op, Dtype dtype, int64_t m, int64_t n, int64_t k, double a
           std::size_t ldc) {
   checkSizes(op, m, n, k);
   if (m == 0 || n == 0)
+    return;
+  if (trySkinnyGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
     return;
   if (dtype == Dtype::F64)
     gemmT<double>(op, m, n, k, alpha, a, b, beta, c, cOffset, ldc);
@@ -94,6 +109,9 @@ void gemmStridedBatched(const char* op, Dtype dtype, int64_t m, int64_t n, int64
     gemm(op, dtype, m, n, k, alpha, a, b, beta, c, cOffset, ldc);
     return;
   }
+  if (trySkinnyGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc, strideC,
+                    batch))
+    return;
   if (dtype == Dtype::F64)
     batchedT<double>(op, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc, strideC,
                      batch);

@@ -87,6 +87,19 @@ TEST(Linalg, MatmulLargeEnoughForTheIndirectKernel) {
   checkMatmul({{260, 257}, {2, 258, 257}, false, true}, 6);
 }
 
+TEST(Linalg, SkinnyGemmsAgainstReference) {
+  // One dimension <= 32: the engine's register-blocked kernels (gemm_skinny.cl) instead of
+  // CLBlast, for every register block (4, 8, 16, 32), both kernels (few rows / few columns),
+  // transposes, batches and a shared operand.
+  checkMatmul({{4, 37}, {37, 700}, false, false}, 8);       // few rows, block 4
+  checkMatmul({{37, 20}, {37, 300}, true, false}, 8);       // few rows, block 32, A^T
+  checkMatmul({{300, 9}, {600, 300}, true, true}, 8);       // few rows, block 16, A^T B^T
+  checkMatmul({{700, 37}, {31, 37}, false, true}, 8);       // few columns, block 32, B^T
+  checkMatmul({{500, 7}, {7, 8}, false, false}, 8);         // few columns, block 8
+  checkMatmul({{3, 6, 40}, {3, 40, 500}, false, false}, 8); // batched, few rows
+  checkMatmul({{2, 400, 12}, {12, 5}, false, false}, 8);    // batched, shared B, few columns
+}
+
 TEST(Linalg, BatchedAndBroadcastMatmul) {
   const MatmulShape cases[] = {
       {{2, 3, 5}, {2, 5, 4}, false, false}, // plain batch

@@ -1,0 +1,68 @@
+#include "gemm_skinny.h"
+
+#include "launch.h"
+#include "simpli/ocl/profiler.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <limits>
+#include <string>
+
+namespace simpli::ocl::blas {
+namespace {
+
+bool skinnyEnabled() {
+  static const bool enabled = [] {
+    const char* env = std::getenv("SIMPLI_GEMM_SKINNY");
+    return !(env && std::string(env) == "0");
+  }();
+  return enabled;
+}
+
+// Largest element index an operand touches: offset + (batch - 1) stride + the last element of
+// a rows x cols row-major block with leading dimension ld.
+int64_t lastIndex(std::size_t offset, std::size_t stride, int64_t batch, int64_t rows, int64_t cols,
+                  std::size_t ld) {
+  return int64_t(offset) + (batch - 1) * int64_t(stride) + (rows - 1) * int64_t(ld) + cols - 1;
+}
+
+} // namespace
+
+bool trySkinnyGemm(Dtype dtype, int64_t m, int64_t n, int64_t k, double alpha, const Operand& a,
+                   std::size_t strideA, const Operand& b, std::size_t strideB, double beta,
+                   cl_mem c, std::size_t cOffset, std::size_t ldc, std::size_t strideC,
+                   int64_t batch) {
+  if (!skinnyEnabled() || m <= 0 || n <= 0 || k <= 0 || batch <= 0)
+    return false;
+  const bool fewRows = m <= n;
+  const int64_t small = fewRows ? m : n, large = fewRows ? n : m;
+  // Few work items with a long k each: CLBlast's tiles parallelise better.
+  if (small > 32 || (large * batch < 256 && k > 64))
+    return false;
+  constexpr int64_t kMax = std::numeric_limits<int>::max();
+  const int64_t aRows = a.trans ? k : m, aCols = a.trans ? m : k;
+  const int64_t bRows = b.trans ? n : k, bCols = b.trans ? k : n;
+  if (lastIndex(a.offset, strideA, batch, aRows, aCols, a.ld) > kMax ||
+      lastIndex(b.offset, strideB, batch, bRows, bCols, b.ld) > kMax ||
+      lastIndex(cOffset, strideC, batch, m, n, ldc) > kMax || large > kMax || batch > 65535)
+    return false;
+
+  const std::string options = "-DSKINNY=" + std::to_string(small) +
+                              " -DTA=" + (a.trans ? "1" : "0") + " -DTB=" + (b.trans ? "1" : "0");
+  // Few rows over contiguous columns: 8 columns per item in vectors (see the kernel).
+  const bool vectorised = fewRows && !b.trans;
+  Launch launch("gemm_skinny",
+                vectorised ? "gemm_skinny_m8" : (fewRows ? "gemm_skinny_m" : "gemm_skinny_n"),
+                dtype, options);
+  launch.arg(static_cast<int>(m)).arg(static_cast<int>(n)).arg(static_cast<int>(k)).real(alpha);
+  launch.arg(a.mem).arg(static_cast<int>(a.offset)).arg(static_cast<int>(a.ld));
+  launch.arg(a.trans ? 1 : 0).arg(static_cast<int>(strideA));
+  launch.arg(b.mem).arg(static_cast<int>(b.offset)).arg(static_cast<int>(b.ld));
+  launch.arg(b.trans ? 1 : 0).arg(static_cast<int>(strideB)).real(beta);
+  launch.arg(c).arg(static_cast<int>(cOffset)).arg(static_cast<int>(ldc));
+  launch.arg(static_cast<int>(strideC));
+  launch.run2(vectorised ? (large + 7) / 8 : large, batch, 64, 1);
+  return true;
+}
+
+} // namespace simpli::ocl::blas
