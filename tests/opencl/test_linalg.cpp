@@ -100,6 +100,16 @@ TEST(Linalg, SkinnyGemmsAgainstReference) {
   checkMatmul({{2, 400, 12}, {12, 5}, false, false}, 8);    // batched, shared B, few columns
 }
 
+TEST(Linalg, SplitKGemmsAgainstReference) {
+  // Small outputs with a long inner dimension (weight gradients): k split into chunks reduced
+  // in parallel (gemm_splitk.cl), as dot products (A, B^T) or outer products (any layout).
+  checkMatmul({{16, 3000}, {144, 3000}, false, true}, 6);     // dot, 6 chunks
+  checkMatmul({{5, 70}, {40, 70}, false, true}, 6);           // dot, one chunk with a tail
+  checkMatmul({{3000, 5}, {3000, 7}, true, false}, 6);        // outer, A^T
+  checkMatmul({{9, 2100}, {2100, 4}, false, false}, 6);       // outer, partial last chunk
+  checkMatmul({{2, 4, 2500}, {2, 2500, 3}, false, false}, 6); // outer, batched
+}
+
 TEST(Linalg, BatchedAndBroadcastMatmul) {
   const MatmulShape cases[] = {
       {{2, 3, 5}, {2, 5, 4}, false, false}, // plain batch
