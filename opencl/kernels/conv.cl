@@ -59,21 +59,23 @@ inline int2 taps_reading(const int h, const int k, const int s, const int p, con
   return (int2)(max(lo, 0), min(hi, n_out - 1));
 }
 
-// The adjoint of im2col3d for one block: dx[c, d, h, w] += sum of the column entries that read
-// it. Gathers (no atomics): one work item per input element of the region the block touches,
-// depths d0 .. d0 + dCount - 1 and rows h0 .. h0 + hCount - 1. Global size
-// (W, dCount * hCount, C).
+// The adjoint of im2col3d for one block: dx[c, d, h, :] += the column entries that read it.
+// One work item per input row (c, d, h) of the region the block touches (depths d0 ..
+// d0 + dCount - 1, rows h0 .. h0 + hCount - 1), so there are no write conflicts and no
+// atomics; along the row it walks the column rows as plain strided copies, like im2col3d
+// (with replicate padding the entries that read past an edge add onto the edge sample).
+// Global size (dCount * hCount, C).
 __kernel void col2im3d(__global const REAL* col, const int C, const int D, const int H,
                        const int W, const int KD, const int KH, const int KW, const int SD,
                        const int SH, const int SW, const int PD, const int PH, const int PW,
                        const int Do, const int Ho, const int Wo, const int row0, const int rows,
                        const int replicate, const int d0, const int dCount, const int h0,
                        const int hCount, __global REAL* dx, const int dxOff) {
-  const int w = get_global_id(0), dh = get_global_id(1), c = get_global_id(2);
-  if (w >= W || dh >= dCount * hCount || c >= C) return;
+  const int dh = get_global_id(0), c = get_global_id(1);
+  if (dh >= dCount * hCount || c >= C) return;
   const int d = d0 + dh / hCount, h = h0 + dh % hCount;
   const int p0 = row0 * Wo, p1 = (row0 + rows) * Wo, chunk = rows * Wo;
-  REAL acc = 0;
+  __global REAL* out = dx + dxOff + ((c * D + d) * H + h) * W;
   for (int i = 0; i < KD; ++i) {
     const int2 rd = taps_reading(d, i, SD, PD, D, Do, replicate);
     for (int od = rd.x; od <= rd.y; ++od) {
@@ -83,15 +85,27 @@ __kernel void col2im3d(__global const REAL* col, const int C, const int D, const
           const int rowBase = (od * Ho + oh) * Wo;
           if (rowBase + Wo <= p0 || rowBase >= p1) continue;
           for (int l = 0; l < KW; ++l) {
-            const int2 rw = taps_reading(w, l, SW, PW, W, Wo, replicate);
             const long r = ((c * KD + i) * KH + j) * KW + l;
-            for (int ow = rw.x; ow <= rw.y; ++ow) acc += col[r * chunk + rowBase + ow - p0];
+            __global const REAL* src = col + r * chunk + rowBase - p0;
+            // Columns ow with 0 <= ow * SW - PW + l < W read inside the row: [lo, hi).
+            const int first = PW - l;
+            const int lo = clamp(first > 0 ? (first + SW - 1) / SW : 0, 0, Wo);
+            const int last = W - 1 + PW - l;
+            const int hi = clamp(last < 0 ? 0 : last / SW + 1, lo, Wo);
+            if (replicate) {
+              REAL left = 0, right = 0;
+              for (int ow = 0; ow < lo; ++ow) left += src[ow];
+              for (int ow = hi; ow < Wo; ++ow) right += src[ow];
+              out[0] += left;
+              out[W - 1] += right;
+            }
+            __global REAL* dst = out + l - PW;
+            for (int ow = lo; ow < hi; ++ow) dst[ow * SW] += src[ow];
           }
         }
       }
     }
   }
-  dx[dxOff + ((c * D + d) * H + h) * W + w] += acc;
 }
 
 // y[n, o, p] = bias[o] for the GEMMs to accumulate onto (beta = 1).

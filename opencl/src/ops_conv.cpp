@@ -164,7 +164,7 @@ void col2im(const Geometry& g, const Tensor& col, int64_t n, int64_t row0, int64
       .arg(static_cast<int>(hCount))
       .arg(dx)
       .arg(static_cast<int>(n * g.C * g.inP()))
-      .run3(g.W, dCount * hCount, g.C);
+      .run2(dCount * hCount, g.C, 16, 4);
 }
 
 // Calls f(n, row0, rows, p0, chunk) for every batch item and column block.
