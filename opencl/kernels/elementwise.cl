@@ -1,4 +1,18 @@
 // Elementwise arithmetic with broadcasting, unary functions and their derivatives.
+//
+// The op code is a kernel argument, but the host also compiles one variant per op with
+// -DBINARY_OP=k / -DUNARY_OP=k, which replaces the argument by a constant: the switch folds
+// away and PoCL can vectorise the kernel across work items.
+#ifdef BINARY_OP
+#define BOP BINARY_OP
+#else
+#define BOP op
+#endif
+#ifdef UNARY_OP
+#define UOP UNARY_OP
+#else
+#define UOP op
+#endif
 
 // Binary op codes (match BinaryOp in ops_elementwise.cpp).
 #define OP_ADD 0
@@ -28,7 +42,21 @@ __kernel void binary_same(const int n, const int op, __global const REAL* a,
                           __global const REAL* b, __global REAL* out) {
   const int i = get_global_id(0);
   if (i >= n) return;
-  out[i] = binary_apply(op, a[i], b[i]);
+  out[i] = binary_apply(BOP, a[i], b[i]);
+}
+
+// Broadcast collapsed on the host to at most three dimensions (n0, n1, n2), n2 fastest;
+// strides 0 on broadcast dimensions. Two divisions per element instead of a loop over up to
+// eight dimensions.
+__kernel void binary_broadcast3(const int n, const int op, const int n1, const int n2,
+                                __global const REAL* a, const int sa0, const int sa1,
+                                const int sa2, __global const REAL* b, const int sb0,
+                                const int sb1, const int sb2, __global REAL* out) {
+  const int i = get_global_id(0);
+  if (i >= n) return;
+  const int i2 = i % n2, i01 = i / n2;
+  const int i1 = i01 % n1, i0 = i01 / n1;
+  out[i] = binary_apply(BOP, a[i0 * sa0 + i1 * sa1 + i2 * sa2], b[i0 * sb0 + i1 * sb1 + i2 * sb2]);
 }
 
 // General broadcast: a and b are addressed through strides (0 on broadcast dimensions).
@@ -38,7 +66,7 @@ __kernel void binary_broadcast(const int n, const int op, const int ndim, const 
                                __global REAL* out) {
   const int i = get_global_id(0);
   if (i >= n) return;
-  out[i] = binary_apply(op, a[offset_of(i, shape, stride_a, ndim)],
+  out[i] = binary_apply(BOP, a[offset_of(i, shape, stride_a, ndim)],
                         b[offset_of(i, shape, stride_b, ndim)]);
 }
 
@@ -127,7 +155,7 @@ __kernel void unary_forward(const int n, const int op, const REAL p0, const REAL
                             __global const REAL* x, __global REAL* y) {
   const int i = get_global_id(0);
   if (i >= n) return;
-  y[i] = unary_apply(op, x[i], p0, p1);
+  y[i] = unary_apply(UOP, x[i], p0, p1);
 }
 
 __kernel void unary_backward(const int n, const int op, const REAL p0, const REAL p1,
@@ -135,7 +163,7 @@ __kernel void unary_backward(const int n, const int op, const REAL p0, const REA
                              __global const REAL* gy, __global REAL* gx) {
   const int i = get_global_id(0);
   if (i >= n) return;
-  gx[i] = gy[i] * unary_derivative(op, x[i], y[i], p0, p1);
+  gx[i] = gy[i] * unary_derivative(UOP, x[i], y[i], p0, p1);
 }
 
 __kernel void fill(const int n, const REAL value, __global REAL* out) {

@@ -53,6 +53,39 @@ Shape broadcastStrides(const Shape& shape, const Shape& outShape) {
   return strides;
 }
 
+std::string binaryOptions(int op) {
+  return "-DBINARY_OP=" + std::to_string(op);
+}
+
+std::string unaryOptions(int op) {
+  return "-DUNARY_OP=" + std::to_string(op);
+}
+
+// The output's dimensions with both operands' strides, size-1 dimensions dropped and
+// neighbours merged where both operands are contiguous across them (so [N, C, H, W] + [C, 1, 1]
+// becomes [N, C, H*W] with b strides [0, 1, 0]). Innermost last.
+struct Collapsed {
+  std::vector<int64_t> size, sa, sb;
+};
+
+Collapsed collapseBroadcast(const Shape& out, const Shape& sa, const Shape& sb) {
+  Collapsed c;
+  for (std::size_t d = 0; d < out.size(); ++d) {
+    if (out[d] == 1)
+      continue;
+    if (!c.size.empty() && c.sa.back() == sa[d] * out[d] && c.sb.back() == sb[d] * out[d]) {
+      c.size.back() *= out[d];
+      c.sa.back() = sa[d];
+      c.sb.back() = sb[d];
+      continue;
+    }
+    c.size.push_back(out[d]);
+    c.sa.push_back(sa[d]);
+    c.sb.push_back(sb[d]);
+  }
+  return c;
+}
+
 Tensor binaryRaw(int op, const Tensor& a, const Tensor& b) {
   const char* name = binaryName(op);
   checkOperands(a, b, name);
@@ -60,9 +93,34 @@ Tensor binaryRaw(int op, const Tensor& a, const Tensor& b) {
   Tensor out = Tensor::empty(outShape, a.dtype());
   const int n = checkedInt(out.numel(), name);
   if (a.shape() == b.shape()) {
-    Launch("elementwise", "binary_same", a.dtype()).arg(n).arg(op).arg(a).arg(b).arg(out).run(n);
+    Launch("elementwise", "binary_same", a.dtype(), binaryOptions(op))
+        .arg(n)
+        .arg(op)
+        .arg(a)
+        .arg(b)
+        .arg(out)
+        .run(n);
+    return out;
+  }
+  Collapsed c = collapseBroadcast(outShape, broadcastStrides(a.shape(), outShape),
+                                  broadcastStrides(b.shape(), outShape));
+  if (c.size.size() <= 3) {
+    while (c.size.size() < 3) { // pad on the outside
+      c.size.insert(c.size.begin(), 1);
+      c.sa.insert(c.sa.begin(), 0);
+      c.sb.insert(c.sb.begin(), 0);
+    }
+    Launch launch("elementwise", "binary_broadcast3", a.dtype(), binaryOptions(op));
+    launch.arg(n).arg(op).arg(static_cast<int>(c.size[1])).arg(static_cast<int>(c.size[2]));
+    launch.arg(a);
+    for (int64_t v : c.sa)
+      launch.arg(static_cast<int>(v));
+    launch.arg(b);
+    for (int64_t v : c.sb)
+      launch.arg(static_cast<int>(v));
+    launch.arg(out).run(n);
   } else {
-    Launch("elementwise", "binary_broadcast", a.dtype())
+    Launch("elementwise", "binary_broadcast", a.dtype(), binaryOptions(op))
         .arg(n)
         .arg(op)
         .arg(static_cast<int>(outShape.size()))
@@ -82,7 +140,7 @@ Tensor unaryRaw(int op, const Tensor& x, double p0, double p1) {
     fail("unary op: undefined operand");
   Tensor y = Tensor::empty(x.shape(), x.dtype());
   const int n = checkedInt(x.numel(), "unary op");
-  Launch("elementwise", "unary_forward", x.dtype())
+  Launch("elementwise", "unary_forward", x.dtype(), unaryOptions(op))
       .arg(n)
       .arg(op)
       .real(p0)
@@ -101,7 +159,7 @@ Tensor unary(const char* name, int op, const Tensor& x, double p0 = 0.0, double 
   return record(name, y, {x}, [op, p0, p1, xs, ys](const Tensor& gy) {
     Tensor gx = Tensor::empty(xs.shape(), xs.dtype());
     const int n = static_cast<int>(xs.numel());
-    Launch("elementwise", "unary_backward", xs.dtype())
+    Launch("elementwise", "unary_backward", xs.dtype(), unaryOptions(op))
         .arg(n)
         .arg(op)
         .real(p0)
@@ -283,7 +341,7 @@ void Tensor::addInPlace(const Tensor& other) {
   if (other.shape() != shape())
     fail("addInPlace: shape ", other.describe(), " does not match ", describe());
   const int n = checkedInt(numel(), "addInPlace");
-  Launch("elementwise", "binary_same", dtype())
+  Launch("elementwise", "binary_same", dtype(), binaryOptions(kAdd))
       .arg(n)
       .arg(static_cast<int>(kAdd))
       .arg(*this)
@@ -294,7 +352,7 @@ void Tensor::addInPlace(const Tensor& other) {
 
 void Tensor::mulInPlace(double factor) {
   const int n = checkedInt(numel(), "mulInPlace");
-  Launch("elementwise", "unary_forward", dtype())
+  Launch("elementwise", "unary_forward", dtype(), unaryOptions(kMulScalar))
       .arg(n)
       .arg(static_cast<int>(kMulScalar))
       .real(factor)
