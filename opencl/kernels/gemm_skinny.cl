@@ -141,3 +141,51 @@ __kernel void gemm_skinny_m8(const int m, const int n, const int k, const REAL a
   }
 }
 #endif
+
+// Few columns with A as is and B transposed (linear layers: x [m, k] times W^T): both operands
+// run along k, so one item per row i of C takes dot products in 8-lane vectors along k.
+#if !TA && TB
+__kernel void gemm_skinny_n8(const int m, const int n, const int k, const REAL alpha,
+                             __global const REAL* a, const int a_off, const int lda, const int ta,
+                             const int stride_a, __global const REAL* b, const int b_off,
+                             const int ldb, const int tb, const int stride_b, const REAL beta,
+                             __global REAL* c, const int c_off, const int ldc,
+                             const int stride_c) {
+  const int i = get_global_id(0), batch = get_global_id(1);
+  if (i >= m) return;
+#if REAL_IS_DOUBLE
+  typedef double8 REAL8;
+#else
+  typedef float8 REAL8;
+#endif
+  __global const REAL* ai = a + a_off + batch * stride_a + i * lda;
+  __global const REAL* bb = b + b_off + batch * stride_b;
+  __global REAL* ci = c + c_off + batch * stride_c + i * ldc;
+  REAL8 acc[SKINNY];
+  REAL tail[SKINNY];
+#pragma unroll
+  for (int j = 0; j < SKINNY; ++j) {
+    acc[j] = (REAL8)(0);
+    tail[j] = 0;
+  }
+  int p = 0;
+  for (; p + 8 <= k; p += 8) {
+    const REAL8 av = vload8(0, ai + p);
+#pragma unroll
+    for (int j = 0; j < SKINNY; ++j)
+      acc[j] += av * vload8(0, bb + j * ldb + p);
+  }
+  for (; p < k; ++p) {
+    const REAL av = ai[p];
+#pragma unroll
+    for (int j = 0; j < SKINNY; ++j)
+      tail[j] += av * bb[j * ldb + p];
+  }
+#pragma unroll
+  for (int j = 0; j < SKINNY; ++j) {
+    const REAL8 v = acc[j];
+    const REAL sum = ((v.s0 + v.s1) + (v.s2 + v.s3)) + ((v.s4 + v.s5) + (v.s6 + v.s7)) + tail[j];
+    ci[j] = beta != 0 ? alpha * sum + beta * ci[j] : alpha * sum;
+  }
+}
+#endif

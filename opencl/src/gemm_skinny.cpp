@@ -76,6 +76,25 @@ bool fitsInt(const Operand& a, std::size_t strideA, const Operand& b, std::size_
          k <= kMax;
 }
 
+// One launch of a gemm_skinny.cl kernel with the small dimension `small` compiled in, over
+// `items` work items per batch entry.
+void launchSkinny(const char* kernel, Dtype dtype, int64_t m, int64_t n, int64_t k, double alpha,
+                  const Operand& a, std::size_t strideA, const Operand& b, std::size_t strideB,
+                  double beta, cl_mem c, std::size_t cOffset, std::size_t ldc, std::size_t strideC,
+                  int64_t batch, int64_t small, int64_t items) {
+  const std::string options = "-DSKINNY=" + std::to_string(small) +
+                              " -DTA=" + (a.trans ? "1" : "0") + " -DTB=" + (b.trans ? "1" : "0");
+  Launch launch("gemm_skinny", kernel, dtype, options);
+  launch.arg(static_cast<int>(m)).arg(static_cast<int>(n)).arg(static_cast<int>(k)).real(alpha);
+  launch.arg(a.mem).arg(static_cast<int>(a.offset)).arg(static_cast<int>(a.ld));
+  launch.arg(a.trans ? 1 : 0).arg(static_cast<int>(strideA));
+  launch.arg(b.mem).arg(static_cast<int>(b.offset)).arg(static_cast<int>(b.ld));
+  launch.arg(b.trans ? 1 : 0).arg(static_cast<int>(strideB)).real(beta);
+  launch.arg(c).arg(static_cast<int>(cOffset)).arg(static_cast<int>(ldc));
+  launch.arg(static_cast<int>(strideC));
+  launch.run2(items, batch, 64, 1);
+}
+
 } // namespace
 
 bool trySkinnyGemm(Dtype dtype, int64_t m, int64_t n, int64_t k, double alpha, const Operand& a,
@@ -90,27 +109,29 @@ bool trySkinnyGemm(Dtype dtype, int64_t m, int64_t n, int64_t k, double alpha, c
     return true;
   const bool fewRows = m <= n;
   const int64_t small = fewRows ? m : n, large = fewRows ? n : m;
+  if (batch > 65535)
+    return false;
+  // Few rows over contiguous columns (weights x columns, W^T x gradients): 8 columns per item
+  // in vectors; up to 256 rows in blocks of 32 (each block one launch re-reading B).
+  if (fewRows && !b.trans && m <= 256 && (m <= 32 || n * batch >= 1024)) {
+    for (int64_t r0 = 0; r0 < m; r0 += 32) {
+      const int64_t rows = std::min<int64_t>(32, m - r0);
+      Operand ab = a;
+      ab.offset += static_cast<std::size_t>(r0) * (a.trans ? 1 : a.ld);
+      launchSkinny("gemm_skinny_m8", dtype, rows, n, k, alpha, ab, strideA, b, strideB, beta, c,
+                   cOffset + static_cast<std::size_t>(r0) * ldc, ldc, strideC, batch, rows,
+                   (n + 7) / 8);
+    }
+    return true;
+  }
   // Few work items with a long k each: CLBlast's tiles parallelise better.
   if (small > 32 || (large * batch < 256 && k > 64))
     return false;
-  if (batch > 65535)
-    return false;
-
-  const std::string options = "-DSKINNY=" + std::to_string(small) +
-                              " -DTA=" + (a.trans ? "1" : "0") + " -DTB=" + (b.trans ? "1" : "0");
-  // Few rows over contiguous columns: 8 columns per item in vectors (see the kernel).
-  const bool vectorised = fewRows && !b.trans;
-  Launch launch("gemm_skinny",
-                vectorised ? "gemm_skinny_m8" : (fewRows ? "gemm_skinny_m" : "gemm_skinny_n"),
-                dtype, options);
-  launch.arg(static_cast<int>(m)).arg(static_cast<int>(n)).arg(static_cast<int>(k)).real(alpha);
-  launch.arg(a.mem).arg(static_cast<int>(a.offset)).arg(static_cast<int>(a.ld));
-  launch.arg(a.trans ? 1 : 0).arg(static_cast<int>(strideA));
-  launch.arg(b.mem).arg(static_cast<int>(b.offset)).arg(static_cast<int>(b.ld));
-  launch.arg(b.trans ? 1 : 0).arg(static_cast<int>(strideB)).real(beta);
-  launch.arg(c).arg(static_cast<int>(cOffset)).arg(static_cast<int>(ldc));
-  launch.arg(static_cast<int>(strideC));
-  launch.run2(vectorised ? (large + 7) / 8 : large, batch, 64, 1);
+  const char* kernel = fewRows
+                           ? "gemm_skinny_m"
+                           : (!a.trans && b.trans && k >= 16 ? "gemm_skinny_n8" : "gemm_skinny_n");
+  launchSkinny(kernel, dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc,
+               strideC, batch, small, large);
   return true;
 }
 

@@ -98,6 +98,10 @@ TEST(Linalg, SkinnyGemmsAgainstReference) {
   checkMatmul({{500, 7}, {7, 8}, false, false}, 8);         // few columns, block 8
   checkMatmul({{3, 6, 40}, {3, 40, 500}, false, false}, 8); // batched, few rows
   checkMatmul({{2, 400, 12}, {12, 5}, false, false}, 8);    // batched, shared B, few columns
+  checkMatmul({{70, 20}, {20, 1100}, false, false}, 6);     // 70 rows in blocks of 32
+  checkMatmul({{20, 70}, {20, 1100}, true, false}, 6);      // the same with A^T
+  checkMatmul({{300, 40}, {9, 40}, false, true}, 6);        // few columns, vectors along k
+  checkMatmul({{300, 21}, {5, 21}, false, true}, 6);        // ... with a tail
 }
 
 TEST(Linalg, SplitKGemmsAgainstReference) {
