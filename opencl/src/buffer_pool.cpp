@@ -3,6 +3,9 @@
 #include "simpli/error.h"
 #include "simpli/ocl/device.h"
 
+#include <cstdlib>
+#include <iterator>
+
 namespace simpli::ocl {
 
 Buffer::~Buffer() {
@@ -12,7 +15,22 @@ Buffer::~Buffer() {
     clReleaseMemObject(mem_);
 }
 
-BufferPool::BufferPool(cl_context context) : context_(context) {}
+namespace {
+
+std::size_t defaultCacheLimit() {
+  if (const char* env = std::getenv("SIMPLI_POOL_CACHE_MB"); env && *env) {
+    char* end = nullptr;
+    const unsigned long long mb = std::strtoull(env, &end, 10);
+    if (end && *end == '\0')
+      return static_cast<std::size_t>(mb) << 20;
+    fail("SIMPLI_POOL_CACHE_MB='", env, "': expected a whole number of MiB");
+  }
+  return std::size_t{2048} << 20;
+}
+
+} // namespace
+
+BufferPool::BufferPool(cl_context context) : context_(context), cacheLimit_(defaultCacheLimit()) {}
 
 BufferPool::~BufferPool() {
   trim();
@@ -54,8 +72,29 @@ std::shared_ptr<Buffer> BufferPool::acquire(std::size_t bytes) {
 
 void BufferPool::release(cl_mem mem, std::size_t bytes) {
   stats_.liveBytes -= bytes;
+  if (bytes > cacheLimit_) {
+    clReleaseMemObject(mem); // the queue keeps it alive until its commands are done
+    ++stats_.evictions;
+    return;
+  }
   stats_.cachedBytes += bytes;
   free_.emplace(bytes, mem);
+  shrinkTo(cacheLimit_);
+}
+
+void BufferPool::shrinkTo(std::size_t bytes) {
+  while (stats_.cachedBytes > bytes && !free_.empty()) {
+    const auto largest = std::prev(free_.end());
+    clReleaseMemObject(largest->second);
+    stats_.cachedBytes -= largest->first;
+    free_.erase(largest);
+    ++stats_.evictions;
+  }
+}
+
+void BufferPool::setCacheLimit(std::size_t bytes) {
+  cacheLimit_ = bytes;
+  shrinkTo(bytes);
 }
 
 void BufferPool::trim() {

@@ -124,8 +124,11 @@ Tensor expand(const Tensor& x, const Shape& shape) {
     fail("expand: ", x.describe(), " cannot be expanded to ", toString(shape));
   if (x.shape() == shape)
     return x;
-  NoGradGuard inner; // the copy below is one op on the tape, recorded next
-  Tensor out = add(Tensor::zeros(shape, x.dtype()), x.detach());
+  Tensor out;
+  {
+    NoGradGuard inner; // the copy is one op on the tape, recorded below (outside this guard)
+    out = add(Tensor::zeros(shape, x.dtype()), x.detach());
+  }
   const Shape source = x.shape();
   return record("expand", out, {x},
                 [source](const Tensor& g) { return std::vector<Tensor>{sumToShape(g, source)}; });

@@ -154,3 +154,41 @@ TEST(Reduce, BadUseThrows) {
   EXPECT_THROW(ocl::meanAll(ocl::Tensor::zeros({0})), Error);
   EXPECT_EQ(ocl::sumAll(ocl::Tensor::zeros({0, 3})).item(), 0.0);
 }
+
+TEST(Reduce, ExpandAgainstReferenceAndFiniteDifferences) {
+  // expand is a broadcast copy; its gradient sums over the expanded dimensions (this caught a
+  // tape bug: the node was recorded inside a no-grad scope and so never recorded).
+  struct Case {
+    Shape from, to;
+  };
+  const Case cases[] = {{{3, 1}, {3, 4}}, {{1, 5}, {2, 3, 5}}, {{2, 1, 3}, {2, 4, 3}}, {{1}, {7}}};
+  for (const auto& [from, to] : cases) {
+    OpCase c;
+    c.name = "expand " + ocl::toString(from) + " -> " + ocl::toString(to);
+    c.inputShapes = {from};
+    c.device = [to = to](const std::vector<ocl::Tensor>& in) { return ocl::expand(in[0], to); };
+    c.reference = [from = from, to = to](const HostInputs& in) {
+      // Right-aligned broadcast of `from` to `to`.
+      const std::size_t pad = to.size() - from.size();
+      int64_t n = 1;
+      for (int64_t d : to)
+        n *= d;
+      std::vector<double> out(static_cast<std::size_t>(n));
+      for (int64_t i = 0; i < n; ++i) {
+        int64_t rest = i, src = 0, stride = 1;
+        for (int d = static_cast<int>(to.size()) - 1; d >= 0; --d) {
+          const int64_t coord = rest % to[d];
+          rest /= to[d];
+          if (d >= static_cast<int>(pad)) {
+            const int64_t fd = from[d - pad];
+            src += (fd == 1 ? 0 : coord) * stride;
+            stride *= fd;
+          }
+        }
+        out[i] = in[0][src];
+      }
+      return out;
+    };
+    checkOp(c);
+  }
+}

@@ -1,7 +1,9 @@
 #pragma once
 // Reuses device buffers: a released buffer goes back to a free list keyed by its byte size and
 // is handed out again for the next request of the same size. Network passes allocate the same
-// shapes every step, so after the first step allocation stops.
+// shapes every step, so after the first step allocation stops. The parked bytes are capped
+// (cacheLimit, default 2 GiB or SIMPLI_POOL_CACHE_MB): training with varying view counts and
+// image sizes meets ever new sizes, and an uncapped cache would keep all of them.
 #include <CL/cl.h>
 
 #include <cstddef>
@@ -34,6 +36,7 @@ struct PoolStats {
   std::size_t cachedBytes = 0; ///< bytes parked in free lists
   std::size_t allocations = 0; ///< clCreateBuffer calls
   std::size_t reuses = 0;      ///< requests served from a free list
+  std::size_t evictions = 0;   ///< parked buffers released to respect the cache limit
 };
 
 class BufferPool {
@@ -51,13 +54,18 @@ public:
   bool poison() const { return poison_; }
   /// Releases every parked buffer back to the driver.
   void trim();
+  /// Caps the bytes parked in free lists (largest parked buffers are released first).
+  void setCacheLimit(std::size_t bytes);
+  std::size_t cacheLimit() const { return cacheLimit_; }
   const PoolStats& stats() const { return stats_; }
   void resetPeak() { stats_.peakBytes = stats_.liveBytes; }
 
 private:
   friend class Buffer;
   void release(cl_mem mem, std::size_t bytes);
+  void shrinkTo(std::size_t bytes);
   cl_context context_;
+  std::size_t cacheLimit_;
   std::multimap<std::size_t, cl_mem> free_;
   PoolStats stats_;
   bool poison_ = false;
