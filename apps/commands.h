@@ -12,4 +12,7 @@ void addInfoCommand(CLI::App& app);
 void addMakeSceneCommand(CLI::App& app);
 void addConvertCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
+void addInferCommand(CLI::App& app);
+void addTrainCommand(CLI::App& app);
+void addEvalCommand(CLI::App& app);
 } // namespace simpli::app

@@ -16,6 +16,9 @@ int main(int argc, char** argv) {
   simpli::app::addMakeSceneCommand(app);
   simpli::app::addConvertCommand(app);
   simpli::app::addRenderCommand(app);
+  simpli::app::addInferCommand(app);
+  simpli::app::addTrainCommand(app);
+  simpli::app::addEvalCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,145 @@
+// `simpli bench infer`: times the SIMPLI generator's forward pass (building one MLI) per stage,
+// with random weights on random images seen by a forward-facing rig of V cameras, and reports
+// the peak device memory the pass allocated (buffer-pool live bytes above those held before
+// the pass; buffers parked in the pool for reuse are reported separately and released after
+// every view count). One untimed warm-up pass per view count compiles the kernels and fills the
+// buffer pool; the reported times are medians over --repeat passes. Measures, never asserts.
+#include <simpli/model/network/loader.h>
+
+#include <CLI/CLI.hpp>
+#include <simpli/error.h>
+#include <simpli/model/generator/generator.h>
+#include <simpli/model/reference_camera.h>
+#include <simpli/ocl/autograd.h>
+#include <simpli/ocl/buffer_pool.h>
+#include <simpli/ocl/device.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace simpli::app {
+
+namespace {
+
+struct BenchInferOptions {
+  std::string config = "official-4l";
+  std::string size = "384x512";
+  std::vector<int> views{4, 8};
+  int repeat = 1;
+  int corrections = -1;
+  std::string device;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// V cameras on a circle of radius 0.05 around the origin, slightly rotated, looking along +z.
+GeneratorInput rigInput(int V, int H, int W, uint64_t seed) {
+  GeneratorInput input;
+  for (int v = 0; v < V; ++v) {
+    const double phase = 2.0 * M_PI * v / V;
+    Camera c;
+    c.R = (Eigen::AngleAxisd(0.01 * std::sin(phase), Eigen::Vector3d::UnitY()) *
+           Eigen::AngleAxisd(0.01 * std::cos(phase), Eigen::Vector3d::UnitX()))
+              .toRotationMatrix();
+    c.t = Eigen::Vector3d(0.05 * std::cos(phase), 0.05 * std::sin(phase), 0.0);
+    c.fx = 1.0;
+    c.fy = double(W) / H;
+    c.width = W;
+    c.height = H;
+    input.sources.push_back(c);
+  }
+  input.reference = referenceCamera(input.sources);
+  input.images = ocl::Tensor::uniform({V, 3, H, W}, -1.0, 1.0, seed);
+  return input;
+}
+
+void runBenchInfer(const BenchInferOptions& o) {
+  if (!o.device.empty()) {
+    const auto [platform, device] = ocl::Device::parseSelector(o.device, "--device");
+    ocl::Device::select(platform, device);
+  }
+  int H = 0, W = 0;
+  char tail = 0;
+  if (std::sscanf(o.size.c_str(), "%dx%d%c", &H, &W, &tail) != 2 || H <= 0 || W <= 0)
+    fail("--size '", o.size, "': expected HEIGHTxWIDTH, e.g. 384x512");
+  if (H % 8 || W % 8)
+    fail("--size ", o.size, ": height and width must be multiples of 8");
+  if (o.repeat < 1)
+    fail("--repeat must be at least 1, got ", o.repeat);
+  if (o.views.empty())
+    fail("--views: at least one view count is needed");
+  for (int v : o.views)
+    if (v < 1 || v > 64)
+      fail("--views ", v, ": view counts must be in 1..64");
+
+  net::SimpliNetwork network(net::resolveNetworkConfig(o.config), ocl::Dtype::F32, 0);
+  const Generator generator(network);
+  ocl::BufferPool& pool = ocl::Device::current().pool();
+  std::printf("bench infer: config %s (%lld parameters, random weights), %d x %d (H x W), "
+              "device %s, median of %d\n",
+              network.config().name.c_str(), static_cast<long long>(network.parameters().count()),
+              H, W, ocl::Device::current().info().deviceName.c_str(), o.repeat);
+  ocl::NoGradGuard noGrad;
+  for (int V : o.views) {
+    const GeneratorInput input = rigInput(V, H, W, 1234 + V);
+    GeneratorOptions options;
+    options.corrections = o.corrections;
+    options.timeStages = true;
+    generator.forward(input, options); // warm-up: kernel compilation, buffer pool
+    std::vector<std::string> names;
+    std::map<std::string, std::vector<double>> times;
+    std::vector<double> totals;
+    std::size_t peak = 0;
+    for (int r = 0; r < o.repeat; ++r) {
+      pool.resetPeak();
+      const std::size_t before = pool.stats().liveBytes;
+      const auto t0 = std::chrono::steady_clock::now();
+      const GeneratorOutput out = generator.forward(input, options);
+      totals.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      peak = std::max(peak, pool.stats().peakBytes - std::min(before, pool.stats().peakBytes));
+      for (const auto& [name, ms] : out.stageMs) {
+        if (r == 0)
+          names.push_back(name);
+        times[name].push_back(ms);
+      }
+    }
+    std::printf("V = %d: forward %.1f ms, peak device memory %.1f MiB (buffer pool: %.1f MiB "
+                "parked for reuse)\n",
+                V, median(totals), peak / 1048576.0, pool.stats().cachedBytes / 1048576.0);
+    for (const std::string& name : names)
+      std::printf("  %-18s %10.1f ms\n", name.c_str(), median(times[name]));
+    pool.trim(); // hand the parked buffers back before the next (larger) view count
+  }
+}
+
+} // namespace
+
+void addBenchInferCommand(CLI::App& bench) {
+  auto o = std::make_shared<BenchInferOptions>();
+  auto* cmd = bench.add_subcommand(
+      "infer", "Time the generator's forward pass per stage and its peak device memory");
+  cmd->add_option("--config", o->config,
+                  "Network config (official-4l, official-8l, a name in model/configs or a .json)");
+  cmd->add_option("--size", o->size, "Image size HEIGHTxWIDTH (default 384x512)");
+  cmd->add_option("--views", o->views, "Source view counts to run (comma separated)")
+      ->delimiter(',');
+  cmd->add_option("--repeat", o->repeat, "Timed passes per view count (median reported)");
+  cmd->add_option("--corrections", o->corrections, "MLI corrections to run (default all)");
+  cmd->add_option("--device", o->device, "OpenCL device as platform:device (see simpli devices)");
+  cmd->callback([o] { runBenchInfer(*o); });
+}
+
+} // namespace simpli::app

@@ -1,0 +1,247 @@
+// `simpli infer SCENE --out DIR`: builds the MLI of a scene with the SIMPLI generator
+// (model/generator/generator.h) and writes it in both MLI forms (mli_io.h): the reference's JPEG
+// form in DIR and simpli's lossless float form in DIR/lossless. Source views: all views of the
+// scene, or --views; the reference camera is the pose average of the sources (§6.1). Optionally
+// renders views of the scene (--render-views; held-out ones measure quality) to PNG and prints
+// PSNR / SSIM on the paper's 90 % central crop, and prints the time of every generator stage.
+#include "commands.h"
+#include <simpli/model/network/loader.h>
+
+#include <CLI/CLI.hpp>
+#include <simpli/error.h>
+#include <simpli/model/generator/generator.h>
+#include <simpli/model/image.h>
+#include <simpli/model/metrics.h>
+#include <simpli/model/mli_io.h>
+#include <simpli/model/reference_camera.h>
+#include <simpli/model/scene.h>
+#include <simpli/ocl/autograd.h>
+#include <simpli/ocl/buffer_pool.h>
+#include <simpli/ocl/device.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace simpli::app {
+
+namespace {
+
+struct InferOptions {
+  std::string scene, weights, config, layers = "all", device, out;
+  std::vector<int> views, renderViews;
+  int corrections = -1;
+  int64_t initRandom = -1; ///< >= 0: random weights with this seed
+};
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+void checkViewIndices(const std::vector<int>& indices, std::size_t count, const char* option) {
+  std::set<int> seen;
+  for (int i : indices) {
+    if (i < 0 || static_cast<std::size_t>(i) >= count)
+      fail(option, " ", i, ": the scene has views 0..", count - 1);
+    if (!seen.insert(i).second)
+      fail(option, ": view ", i, " is listed twice");
+  }
+}
+
+/// The network's image of a rendered colour [3, H, W] in [-1, 1].
+Image toImage(const ocl::Tensor& colour) {
+  Image image(static_cast<int>(colour.size(2)), static_cast<int>(colour.size(1)));
+  image.data = colour.toVectorF32();
+  return image;
+}
+
+void runInfer(const InferOptions& o) {
+  namespace fs = std::filesystem;
+  const auto start = Clock::now();
+  if (!o.device.empty()) {
+    const auto [platform, device] = ocl::Device::parseSelector(o.device, "--device");
+    ocl::Device::select(platform, device);
+  }
+  if (o.corrections < -1)
+    fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
+  if (o.out.empty())
+    fail("--out: an output folder is required");
+
+  // Scene and source views.
+  auto t0 = Clock::now();
+  const Scene scene = readScene(o.scene);
+  std::vector<int> views = o.views;
+  if (views.empty())
+    for (std::size_t i = 0; i < scene.size(); ++i)
+      views.push_back(static_cast<int>(i));
+  checkViewIndices(views, scene.size(), "--views");
+  checkViewIndices(o.renderViews, scene.size(), "--render-views");
+  const double readMs = msSince(t0);
+
+  // Network.
+  const net::LoadedNetwork loaded =
+      net::loadNetwork(o.config, o.weights,
+                       o.initRandom >= 0 ? std::optional<uint64_t>(o.initRandom) : std::nullopt);
+  net::SimpliNetwork& network = *loaded.network;
+  const net::NetworkConfig& config = network.config();
+  if (o.corrections > config.mliCorrections())
+    fail("--corrections ", o.corrections, ": config '", config.name, "' has ",
+         config.mliCorrections(), " corrections");
+  float dropBelow = 0.0f;
+  if (o.layers == "auto")
+    dropBelow = 1.0f / 255.0f; // nothing visible after 8-bit export
+  else if (o.layers != "all") {
+    int n = 0;
+    try {
+      std::size_t used = 0;
+      n = std::stoi(o.layers, &used);
+      if (used != o.layers.size())
+        n = -1;
+    } catch (const std::exception&) {
+      n = -1;
+    }
+    if (n <= 0)
+      fail("--layers '", o.layers, "': expected auto, all or a number of layers");
+    if (n != config.surfaces())
+      fail("--layers ", n, ": the network (config '", config.name, "') has ", config.surfaces(),
+           config.mpiOnly ? " planes" : " layers",
+           "; choose a config with that many layers (e.g. official-", n, "l)");
+  }
+
+  // Input: [V, 3, H, W] in [-1, 1], the source cameras and their reference camera.
+  GeneratorInput input;
+  const int H = scene.height(), W = scene.width();
+  std::vector<float> pixels;
+  for (int v : views) {
+    const SceneView& view = scene.views[static_cast<std::size_t>(v)];
+    pixels.insert(pixels.end(), view.image.data.begin(), view.image.data.end());
+    input.sources.push_back(view.camera);
+  }
+  input.images =
+      ocl::Tensor::fromHost(pixels, {static_cast<int64_t>(views.size()), 3, H, W}, ocl::Dtype::F32);
+  input.reference = referenceCamera(input.sources);
+  input.reference.width = W;
+  input.reference.height = H;
+
+  std::printf("scene      %s (%s, %zu views of %d x %d)\n", o.scene.c_str(), toString(scene.format),
+              scene.size(), W, H);
+  std::string list;
+  for (int v : views)
+    list += (list.empty() ? "" : ",") + std::to_string(v);
+  std::printf("sources    %zu views: %s\n", views.size(), list.c_str());
+  std::printf("network    config %s (%s), %lld parameters\n", config.name.c_str(),
+              loaded.configSource.c_str(), static_cast<long long>(network.parameters().count()));
+  std::printf("weights    %s\n", loaded.weightsDescription.c_str());
+  std::printf("device     %s\n", ocl::Device::current().info().deviceName.c_str());
+
+  // Forward pass.
+  GeneratorOptions options;
+  options.corrections = o.corrections;
+  options.timeStages = true;
+  ocl::BufferPool& pool = ocl::Device::current().pool();
+  pool.resetPeak();
+  const std::size_t liveBefore = pool.stats().liveBytes;
+  t0 = Clock::now();
+  GeneratorOutput output;
+  {
+    ocl::NoGradGuard noGrad;
+    output = Generator(network).forward(input, options);
+  }
+  const double forwardMs = msSince(t0);
+  // One pass per process: hand the buffers the pool parked for reuse back to the device.
+  pool.trim();
+  std::printf("stages (ms):");
+  for (const auto& [name, ms] : output.stageMs)
+    std::printf(" %s %.1f", name.c_str(), ms);
+  std::printf("\nforward    %.1f ms, peak device memory %.1f MiB\n", forwardMs,
+              (pool.stats().peakBytes - std::min(liveBefore, pool.stats().peakBytes)) / 1048576.0);
+
+  // The MLI in both forms.
+  t0 = Clock::now();
+  const MLI mli = toMLI(output, input.reference, dropBelow);
+  const fs::path outDir(o.out);
+  if (outDir.has_parent_path())
+    fs::create_directories(outDir.parent_path());
+  writeMLI(o.out, mli, MLIFormat::Jpeg);
+  const std::string lossless = (outDir / "lossless").string();
+  writeMLI(lossless, mli, MLIFormat::Lossless);
+  const int surfaces = static_cast<int>(output.rgba.size(0));
+  std::printf("MLI        %d of %d %s (%d x %d) -> %s (jpeg), %s (lossless); %.1f ms\n",
+              mli.numLayers(), surfaces, config.mpiOnly ? "planes" : "layers", mli.width(),
+              mli.height(), o.out.c_str(), lossless.c_str(), msSince(t0));
+  if (o.initRandom >= 0) {
+    // So that the same random network can be loaded again (tests, benchmarks).
+    const std::string path = (outDir / "random_weights.safetensors").string();
+    network.parameters().save(
+        path, {{"config", net::toJson(config)}, {"seed", std::to_string(o.initRandom)}});
+    std::printf("weights    saved to %s\n", path.c_str());
+  }
+
+  // Rendered views.
+  for (int k : o.renderViews) {
+    t0 = Clock::now();
+    const SceneView& view = scene.views[static_cast<std::size_t>(k)];
+    RenderedLayers r;
+    {
+      ocl::NoGradGuard noGrad;
+      r = renderNovelView(output, input.reference, view.camera);
+    }
+    const Image image = toImage(r.colour);
+    char name[64];
+    std::snprintf(name, sizeof name, "render_%03d.png", k);
+    const std::string path = (outDir / name).string();
+    writeImagePng(image, path);
+    const bool source = std::find(views.begin(), views.end(), k) != views.end();
+    const ImageQuality q =
+        evaluateImageQuality(metricImageFromImage(image), metricImageFromImage(view.image));
+    std::printf("view %-5d %s PSNR %.2f dB SSIM %.4f (%s, 90%% central crop); %.1f ms\n", k,
+                path.c_str(), q.psnr, q.ssim, source ? "source view" : "held out", msSince(t0));
+  }
+  std::printf("total      %.1f ms (scene read %.1f ms)\n", msSince(start), readMs);
+}
+
+} // namespace
+
+void addInferCommand(CLI::App& app) {
+  auto o = std::make_shared<InferOptions>();
+  auto* cmd = app.add_subcommand(
+      "infer", "Build the multi-layer image (MLI) of a scene with the SIMPLI network");
+  cmd->add_option("scene", o->scene, "Scene folder (LLFF, COLMAP or RealEstate10K)")->required();
+  cmd->add_option("--out", o->out,
+                  "Output folder: the MLI in JPEG form, its lossless form in OUT/lossless, "
+                  "rendered views")
+      ->required();
+  cmd->add_option("--weights", o->weights,
+                  "Network weights (safetensors, reference key names); default "
+                  "model/weights/default.safetensors");
+  cmd->add_option("--config", o->config,
+                  "Network config: official-4l, official-8l, a name in model/configs or a .json "
+                  "file; default: the weights' \"config\" metadata");
+  cmd->add_option("--views", o->views, "Source views (scene indices, comma separated); default all")
+      ->delimiter(',');
+  cmd->add_option("--layers", o->layers,
+                  "all (default), auto (drop layers with nothing visible) or N (check that the "
+                  "network has N layers)");
+  cmd->add_option("--corrections", o->corrections,
+                  "MLI correction steps to run (default: all of the config's)");
+  cmd->add_option("--render-views", o->renderViews,
+                  "Scene views to render to OUT/render_KKK.png with PSNR / SSIM (comma separated)")
+      ->delimiter(',');
+  cmd->add_option("--device", o->device, "OpenCL device as platform:device (see simpli devices)");
+  auto* seed =
+      cmd->add_option("--init-random", o->initRandom,
+                      "Testing / benchmarking only: random weights drawn with this seed (config "
+                      "default official-4l), saved to OUT/random_weights.safetensors");
+  cmd->callback([o, seed] {
+    if (seed->count() > 0 && o->initRandom < 0)
+      fail("--init-random ", o->initRandom, ": the seed must be >= 0");
+    runInfer(*o);
+  });
+}
+
+} // namespace simpli::app

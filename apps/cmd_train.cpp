@@ -1,0 +1,152 @@
+// `simpli train DATA --config C --out RUN`: trains a SIMPLI network (model/training/). DATA is a
+// scene folder, a folder of scene folders, or synthetic[:SEED]. SIGINT / SIGTERM finish the
+// current step, write a checkpoint and exit with 130 / 143; `--resume` continues the run.
+#include "commands.h"
+#include "progress_bar.h"
+
+#include <CLI/CLI.hpp>
+#include <simpli/error.h>
+#include <simpli/model/training/trainer.h>
+#include <simpli/ocl/device.h>
+
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+
+namespace simpli::app {
+
+namespace {
+
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void onStopSignal(int signal) {
+  g_signal = signal;
+}
+
+// Installs the handlers for the lifetime of the run; a second signal gets the default action
+// (SA_RESETHAND), so a user can still kill a run that is busy writing its checkpoint.
+class StopSignals {
+public:
+  StopSignals() {
+    struct sigaction sa {};
+    sa.sa_handler = onStopSignal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, &oldInt_);
+    sigaction(SIGTERM, &sa, &oldTerm_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &oldInt_, nullptr);
+    sigaction(SIGTERM, &oldTerm_, nullptr);
+  }
+
+private:
+  struct sigaction oldInt_ {
+  }, oldTerm_{};
+};
+
+struct TrainCliOptions {
+  std::string data, config, out, vgg, size, device;
+  bool resume = false;
+  int64_t steps = -1, checkpointEvery = -1;
+  int64_t seed = -1;
+};
+
+void selectDevice(const std::string& text) {
+  if (text.empty())
+    return;
+  const auto [p, d] = ocl::Device::parseSelector(text, "--device");
+  ocl::Device::select(p, d);
+}
+
+int runTrain(const TrainCliOptions& o) {
+  selectDevice(o.device);
+  train::TrainerOptions t;
+  t.data = o.data;
+  t.runDir = o.out;
+  t.resume = o.resume;
+  t.steps = o.steps;
+  t.checkpointEvery = o.checkpointEvery;
+  t.vggPath = o.vgg;
+  if (!o.size.empty())
+    train::parseHeightWidth(o.size, "--size", t.dataOptions.height, t.dataOptions.width);
+  if (o.seed >= 0)
+    t.seed = uint64_t(o.seed);
+  if (o.steps < -1)
+    fail("--steps ", o.steps, ": must be >= 0");
+  if (o.checkpointEvery == 0 || o.checkpointEvery < -1)
+    fail("--checkpoint-every ", o.checkpointEvery, ": must be >= 1");
+  std::unique_ptr<train::TrainingConfig> config;
+  if (!o.config.empty())
+    config = std::make_unique<train::TrainingConfig>(train::loadTrainingConfig(o.config));
+  else if (!o.resume)
+    fail("--config is required for a new run (a resumed run uses its own config.json)");
+
+  StopSignals signals;
+  g_signal = 0;
+  std::unique_ptr<ProgressBar> bar;
+  t.message = [&](const std::string& m) {
+    if (bar)
+      bar->message(m);
+    else
+      std::fprintf(stderr, "%s\n", m.c_str());
+  };
+  t.stopRequested = [] { return g_signal != 0; };
+  t.onStep = [&](const train::StepReport& r) {
+    char detail[128];
+    std::snprintf(detail, sizeof detail, "loss %.4f, l1 %.4f, lr %.3g, %.0f ms/step", r.total,
+                  r.terms[0].second, r.lr, r.ms);
+    bar->update(r.step, detail);
+  };
+  train::Trainer trainer(config.get(), t);
+  bar = std::make_unique<ProgressBar>("train", trainer.totalSteps(), trainer.startStep());
+  const train::Trainer::RunResult result = trainer.run();
+  bar->finish();
+  const int sig = g_signal;
+  std::printf("%s at step %lld of %lld; run folder %s (weights %s/weights.safetensors)\n",
+              result.interrupted ? "stopped" : "finished", static_cast<long long>(result.steps),
+              static_cast<long long>(trainer.totalSteps()), o.out.c_str(), o.out.c_str());
+  std::fflush(stdout);
+  if (result.interrupted && sig != 0) {
+    std::fprintf(stderr, "simpli train: %s received; checkpoint written, resume with --resume\n",
+                 sig == SIGTERM ? "SIGTERM" : "SIGINT");
+    return 128 + sig;
+  }
+  return 0;
+}
+
+} // namespace
+
+void addTrainCommand(CLI::App& app) {
+  auto opts = std::make_shared<TrainCliOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "train", "Train a SIMPLI network on scenes (checkpointed, resumable; Ctrl-C stops "
+               "cleanly after a checkpoint)");
+  cmd->add_option("data", opts->data,
+                  "A scene folder, a folder of scene folders, or synthetic[:SEED]")
+      ->required();
+  cmd->add_option("--config", opts->config,
+                  "Training config JSON (network, optimiser, loss weights, sampling); optional "
+                  "with --resume");
+  cmd->add_option("--out", opts->out, "Run folder (new, or the run to continue with --resume)")
+      ->required();
+  cmd->add_flag("--resume", opts->resume, "Continue the run in --out from its last checkpoint");
+  cmd->add_option("--steps", opts->steps, "Total steps of the run (default: the config's)");
+  cmd->add_option("--checkpoint-every", opts->checkpointEvery,
+                  "Steps between checkpoints (default: the config's)");
+  cmd->add_option("--vgg", opts->vgg,
+                  "VGG-19 weights (safetensors, torchvision key names) for the perceptual loss");
+  cmd->add_option("--size", opts->size, "Resize the images to HEIGHTxWIDTH, e.g. 128x192");
+  cmd->add_option("--seed", opts->seed, "Seed of the network initialisation and sampling");
+  cmd->add_option("--device", opts->device, "OpenCL device p:d (see `simpli devices`)");
+  cmd->callback([opts] {
+    const int code = runTrain(*opts);
+    if (code != 0) {
+      std::fflush(nullptr);
+      std::exit(code);
+    }
+  });
+}
+
+} // namespace simpli::app

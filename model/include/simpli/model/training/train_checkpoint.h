@@ -1,0 +1,57 @@
+#pragma once
+// Training checkpoints. A run folder holds
+//   config.json                 the training config (self-contained)
+//   log.csv                     per-step log (train_log.h)
+//   weights.safetensors         the latest checkpoint's network parameters (reference key
+//                               names; what `simpli infer --weights` loads)
+//   checkpoints/step_NNNNNNNN/  one folder per checkpoint:
+//       weights.safetensors     network parameters
+//       optimizer.safetensors   Adam moments "m.<param>" / "v.<param>" (F64, exact copies)
+//       state.json              step, Adam step counts, sampler random state, the config
+// A checkpoint folder is written completely under checkpoints/.tmp-step_NNNNNNNN-<pid> and then
+// renamed into place: the rename is the commit, so a crash at any point leaves every
+// step_NNNNNNNN folder complete. The newest complete folder is the one a resume uses; after a
+// successful write older ones beyond `keep` and stale temporaries are removed (the previous
+// good checkpoint is never removed before the new one is committed).
+#include "simpli/model/network/parameter_store.h"
+#include "simpli/model/training/train_config.h"
+#include "simpli/model/training/train_random.h"
+
+#include <simpli/ocl/optim.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace simpli::train {
+
+struct CheckpointData {
+  int64_t step = 0;            ///< optimiser steps done (= the LR schedule's step)
+  TrainRandom::State random{}; ///< the sampler's state after those steps
+  ocl::Adam::State adam;
+  std::string configJson; ///< toJson(config) of the run
+};
+
+struct CheckpointWriteOptions {
+  int keep = 2; ///< complete checkpoints kept (>= 1)
+  /// Testing: throw simpli::Error after this many files of the new checkpoint were written
+  /// (simulates a crash mid-write); -1 = never.
+  int failAfterFiles = -1;
+};
+
+/// checkpoints/step_NNNNNNNN under `runDir`.
+std::string checkpointDir(const std::string& runDir, int64_t step);
+
+/// Writes a checkpoint of `store` and `data` (see the header comment); returns its folder.
+std::string writeCheckpoint(const std::string& runDir, const net::ParameterStore& store,
+                            const CheckpointData& data, const CheckpointWriteOptions& options = {});
+
+/// The newest complete checkpoint folder of a run, if any.
+std::optional<std::string> latestCheckpoint(const std::string& runDir);
+
+/// Reads a checkpoint folder: loads the weights into `store` (every parameter must be present
+/// with its shape) and returns the rest; the Adam state is matched to the store's parameter
+/// order by name. Throws simpli::Error naming the file and field on any problem.
+CheckpointData readCheckpoint(const std::string& dir, net::ParameterStore& store);
+
+} // namespace simpli::train

@@ -1,0 +1,42 @@
+#pragma once
+// Evaluation with the paper's protocol: for every scene (or `scenes` synthetic scenes), R
+// repeats of: draw V sources and N targets from a window of consecutive frames (train_sampler.h,
+// no crop, no MixUp), build the layers from the sources, render every target, and score it
+// against the held-out photo with PSNR / SSIM on the central 90 % crop (metrics.h). The same
+// samples are scored for the nearest-source-view baseline: the source image whose camera
+// centre is closest to the target's, compared as it is.
+#include "simpli/model/metrics.h"
+#include "simpli/model/network/network.h"
+#include "simpli/model/rasterizer.h"
+#include "simpli/model/training/train_data.h"
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace simpli::train {
+
+struct EvalOptions {
+  int repeats = 1;
+  int views = 4;      ///< V
+  int novelViews = 4; ///< N (fewer when the scene is short)
+  int window = 0;     ///< frame window (0 = whole scene)
+  int scenes = 1;     ///< scenes to use from endless (synthetic) data
+  uint64_t seed = 0;
+  int corrections = -1;
+  RasterSettings raster;
+  double keptArea = 0.9;
+};
+
+struct EvalResult {
+  std::vector<ImageQuality> model, baseline; ///< per target view
+  MeanStd modelPsnr, modelSsim, baselinePsnr, baselineSsim;
+};
+
+/// Index of the camera in `sources` whose centre is closest to `target`'s (first on ties).
+int nearestSourceView(const std::vector<Camera>& sources, const Camera& target);
+
+EvalResult evaluate(net::SimpliNetwork& network, TrainingData& data, const EvalOptions& options,
+                    const std::function<void(int done, int total)>& progress = {});
+
+} // namespace simpli::train

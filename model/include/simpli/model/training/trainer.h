@@ -1,0 +1,105 @@
+#pragma once
+// The training loop (simpli_reference.md §8.2): per step one sample (train_sampler.h), the
+// generator's forward pass with the intermediate source renders, the novel views rendered with
+// the final layers, the losses (train_losses.h), backward, global gradient-norm clipping,
+// Adam with lr0 * gamma^step, a CSV row (train_log.h) and, every checkpoint_every steps and
+// when stopping early, an atomic checkpoint (train_checkpoint.h).
+//
+// Run folder: a new run needs a folder that does not exist or is empty; --resume continues the
+// run in it from its newest checkpoint (or from step 0 when it has none) with the run's own
+// config.json. A resumed run repeats exactly the computation of an uninterrupted one: the
+// weights, Adam moments and step counts, the LR step and the sampler's random state are all
+// restored, and nothing else carries state between steps. (Whether the float results are then
+// bit-identical depends on the device: see tests/model/training/test_train_resume.cpp.)
+#include "simpli/model/generator/generator.h"
+#include "simpli/model/network/network.h"
+#include "simpli/model/training/train_config.h"
+#include "simpli/model/training/train_data.h"
+#include "simpli/model/training/train_log.h"
+#include "simpli/model/training/train_sampler.h"
+#include "simpli/model/training/train_vgg.h"
+
+#include <simpli/ocl/optim.h>
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace simpli::train {
+
+struct StepReport {
+  int64_t step = 0; ///< 1-based: the number of optimiser steps done after this one
+  std::vector<std::pair<std::string, double>> terms; ///< every lossTermNames() term (NaN: off)
+  double total = 0, lr = 0, gradNorm = 0, ms = 0;
+  bool skipped = false; ///< non-finite gradients: no update was made
+};
+
+struct TrainerOptions {
+  std::string data;   ///< scene folder(s) or "synthetic[:seed]"
+  std::string runDir; ///< the run folder
+  bool resume = false;
+  int64_t steps = -1;           ///< total steps of the run; -1 = the config's
+  int64_t checkpointEvery = -1; ///< -1 = the config's
+  std::string vggPath;          ///< VGG-19 weights for the perceptual loss; empty = off
+  DataOptions dataOptions;
+  std::optional<uint64_t> seed; ///< overrides the config's seed (a new run only)
+  /// Polled between steps; true stops the run after a checkpoint.
+  std::function<bool()> stopRequested;
+  std::function<void(const StepReport&)> onStep;
+  std::function<void(const std::string&)> message; ///< informational lines
+  /// Testing: after this many steps of this process the loop stops without a checkpoint
+  /// (simulates a kill); -1 = never.
+  int64_t crashAfterSteps = -1;
+};
+
+class Trainer {
+public:
+  /// Sets up (or resumes) the run. `config` may be null when resuming (the run's config.json
+  /// is used; when given it must agree with it except for steps / checkpoint_every).
+  Trainer(const TrainingConfig* config, const TrainerOptions& options);
+  ~Trainer();
+
+  int64_t step() const { return step_; }
+  int64_t totalSteps() const { return totalSteps_; }
+  int64_t startStep() const { return startStep_; }
+  const TrainingConfig& config() const { return config_; }
+  net::SimpliNetwork& network() { return *network_; }
+  const std::string& runDir() const { return options_.runDir; }
+
+  /// One optimiser step on a freshly drawn sample.
+  StepReport trainStep();
+  /// Writes a checkpoint of the current state; returns its folder.
+  std::string saveCheckpoint();
+
+  struct RunResult {
+    int64_t steps = 0;        ///< step counter at the end
+    bool interrupted = false; ///< stopped by stopRequested before totalSteps
+  };
+  /// Trains up to totalSteps(), checkpointing every checkpoint_every steps, on stop and at the
+  /// end.
+  RunResult run();
+
+private:
+  TrainingConfig config_;
+  TrainerOptions options_;
+  std::unique_ptr<TrainingData> data_;
+  std::unique_ptr<net::SimpliNetwork> network_;
+  std::unique_ptr<Generator> generator_;
+  std::unique_ptr<ocl::Adam> adam_;
+  std::unique_ptr<ocl::ExponentialLr> schedule_;
+  std::unique_ptr<Sampler> sampler_;
+  std::unique_ptr<TrainLog> log_;
+  Vgg19Features vgg_;
+  int64_t step_ = 0, startStep_ = 0, totalSteps_ = 0, checkpointEvery_ = 1;
+};
+
+/// Images [-1, 1] -> one tensor [n, 3, H, W] in `dtype`.
+ocl::Tensor imagesToTensor(const std::vector<Image>& images, ocl::Dtype dtype);
+
+/// The sampler seed of a run seeded with `seed` (distinct from the network's initialisation).
+uint64_t samplerSeed(uint64_t seed);
+
+} // namespace simpli::train

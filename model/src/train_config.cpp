@@ -1,0 +1,309 @@
+// TrainingConfig: strict JSON reading (unknown keys rejected), writing and validation.
+#include "simpli/model/training/train_config.h"
+
+#include "simpli/error.h"
+#include "simpli/model/file_io.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+namespace simpli::train {
+namespace {
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string excerpt(const json& v) {
+  std::string s = v.dump();
+  return s.size() > 60 ? s.substr(0, 57) + "..." : s;
+}
+
+// Reads one JSON object, remembering the consumed keys so that leftovers (typos) are errors.
+class Fields {
+public:
+  Fields(const json& object, const std::string& source, const std::string& path)
+      : object_(object), source_(source), path_(path) {
+    if (!object.is_object())
+      fail(source, ": ", where(""), " is ", excerpt(object), ", expected a JSON object");
+  }
+  std::string where(const std::string& key) const {
+    const std::string p = path_.empty() ? key : (key.empty() ? path_ : path_ + "." + key);
+    return p.empty() ? "the top level" : "field \"" + p + "\"";
+  }
+  const json* find(const std::string& key) {
+    auto it = object_.find(key);
+    if (it == object_.end())
+      return nullptr;
+    used_.insert(key);
+    return &*it;
+  }
+  void number(const std::string& key, double& out) {
+    if (const json* v = find(key)) {
+      if (!v->is_number() || !std::isfinite(v->get<double>()))
+        fail(source_, ": ", where(key), " is ", excerpt(*v), ", expected a finite number");
+      out = v->get<double>();
+    }
+  }
+  template <typename Int> void integer(const std::string& key, Int& out) {
+    if (const json* v = find(key)) {
+      if (!v->is_number_integer())
+        fail(source_, ": ", where(key), " is ", excerpt(*v), ", expected an integer");
+      out = static_cast<Int>(v->get<int64_t>());
+    }
+  }
+  void pair(const std::string& key, double& a, double& b) {
+    if (const json* v = find(key)) {
+      if (!v->is_array() || v->size() != 2 || !(*v)[0].is_number() || !(*v)[1].is_number())
+        fail(source_, ": ", where(key), " is ", excerpt(*v), ", expected [number, number]");
+      a = (*v)[0].get<double>();
+      b = (*v)[1].get<double>();
+    }
+  }
+  void finish() const {
+    for (auto it = object_.begin(); it != object_.end(); ++it)
+      if (!used_.count(it.key()))
+        fail(source_, ": unknown ", where(it.key()));
+  }
+
+private:
+  const json& object_;
+  std::string source_, path_;
+  std::set<std::string> used_;
+};
+
+net::NetworkConfig resolveNetwork(const json& v, const std::string& source,
+                                  const std::string& baseDir) {
+  if (v.is_object())
+    return net::parseNetworkConfig(v.dump(), source + " (field \"network\")");
+  if (!v.is_string())
+    fail(source, ": field \"network\" is ", excerpt(v),
+         ", expected \"official-4l\", \"official-8l\", a file name or an object");
+  const std::string name = v.get<std::string>();
+  if (name == "official-4l")
+    return net::officialConfig(4);
+  if (name == "official-8l")
+    return net::officialConfig(8);
+  fs::path p(name);
+  if (p.is_relative() && !baseDir.empty())
+    p = fs::path(baseDir) / p;
+  if (!fs::exists(p))
+    fail(source, ": field \"network\": network config '", p.string(), "' does not exist");
+  return net::loadNetworkConfig(p.string());
+}
+
+} // namespace
+
+const std::vector<std::string>& lossTermNames() {
+  static const std::vector<std::string> names{"l1",
+                                              "perceptual",
+                                              "intermediate_loss_0_l1",
+                                              "intermediate_loss_1_l1",
+                                              "intermediate_loss_2_l1",
+                                              "intermediate_loss_3_l1",
+                                              "smooth_layers"};
+  return names;
+}
+
+TrainingConfig::TrainingConfig() {
+  // configs/tblock4_train.yaml (simpli_reference.md §8.1, §14 item 2).
+  lossWeights = {{"l1", 1.0},
+                 {"perceptual", 0.0},
+                 {"intermediate_loss_0_l1", 1.0},
+                 {"intermediate_loss_1_l1", 1.0},
+                 {"intermediate_loss_2_l1", 1.0},
+                 {"intermediate_loss_3_l1", 1.0},
+                 {"smooth_layers", 0.01}};
+}
+
+double TrainingConfig::weight(const std::string& term) const {
+  auto it = lossWeights.find(term);
+  if (it == lossWeights.end())
+    fail("training config: unknown loss term '", term, "'");
+  return it->second;
+}
+
+void TrainingConfig::validate(const std::string& source) const {
+  network.validate(source + " (network)");
+  const SamplingConfig& s = sampling;
+  auto bad = [&](const char* field, auto value, const char* why) {
+    fail(source, ": field \"", field, "\" = ", value, ": ", why);
+  };
+  if (steps < 0)
+    bad("steps", steps, "must be >= 0");
+  if (checkpointEvery < 1)
+    bad("checkpoint_every", checkpointEvery, "must be >= 1");
+  if (corrections < -1 || corrections > network.mliCorrections())
+    fail(source, ": field \"corrections\" = ", corrections, ": must be -1 .. ",
+         network.mliCorrections(), " (the network's correction steps)");
+  if (maxFragments < 1 || maxFragments > 64)
+    bad("max_fragments", maxFragments, "must be 1 .. 64");
+  const OptimizerConfig& o = optimizer;
+  if (!(o.lr > 0))
+    bad("optimizer.lr", o.lr, "must be > 0");
+  if (!(o.beta1 >= 0 && o.beta1 < 1))
+    bad("optimizer.beta1", o.beta1, "must be in [0, 1)");
+  if (!(o.beta2 >= 0 && o.beta2 < 1))
+    bad("optimizer.beta2", o.beta2, "must be in [0, 1)");
+  if (!(o.eps > 0))
+    bad("optimizer.eps", o.eps, "must be > 0");
+  if (!(o.gamma > 0 && o.gamma <= 1))
+    bad("optimizer.gamma", o.gamma, "must be in (0, 1]");
+  if (!(o.clipGradNorm > 0))
+    bad("optimizer.clip_grad_norm", o.clipGradNorm, "must be > 0");
+  for (const auto& [term, w] : lossWeights)
+    if (!(w >= 0) || !std::isfinite(w))
+      fail(source, ": field \"loss_weights.", term, "\" = ", w, ": must be finite and >= 0");
+  if (s.minViews < 1)
+    bad("sampling.min_views", s.minViews, "must be >= 1");
+  if (s.maxViews < s.minViews)
+    fail(source, ": field \"sampling.max_views\" = ", s.maxViews, ": must be >= min_views (",
+         s.minViews, ")");
+  if (s.novelViews < 1)
+    bad("sampling.novel_views", s.novelViews, "must be >= 1");
+  if (s.window < 0)
+    bad("sampling.window", s.window, "must be >= 0 (0 = the whole scene)");
+  if (s.cropHeight < 0 || s.cropWidth < 0 || (s.cropHeight == 0) != (s.cropWidth == 0))
+    fail(source, ": field \"sampling.crop\" = [", s.cropHeight, ", ", s.cropWidth,
+         "]: both 0 (no crop) or both positive");
+  if (s.cropHeight % 16 != 0 || s.cropWidth % 16 != 0)
+    fail(source, ": field \"sampling.crop\" = [", s.cropHeight, ", ", s.cropWidth,
+         "]: the network needs multiples of 16");
+  if (!(s.mixupProbability >= 0 && s.mixupProbability <= 1))
+    bad("sampling.mixup_probability", s.mixupProbability, "must be in [0, 1]");
+  if (!(s.mixupLambdaMin >= 0 && s.mixupLambdaMin <= s.mixupLambdaMax && s.mixupLambdaMax <= 1))
+    fail(source, ": field \"sampling.mixup_lambda\" = [", s.mixupLambdaMin, ", ", s.mixupLambdaMax,
+         "]: need 0 <= low <= high <= 1");
+}
+
+TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::string& source,
+                                   const std::string& baseDir) {
+  json root;
+  try {
+    root = json::parse(jsonText);
+  } catch (const json::exception& e) {
+    fail(source, ": not valid JSON: ", e.what());
+  }
+  TrainingConfig c;
+  Fields top(root, source, "");
+  const json* net = top.find("network");
+  if (!net)
+    fail(source, ": missing field \"network\"");
+  c.network = resolveNetwork(*net, source, baseDir);
+  if (const json* d = top.find("dtype")) {
+    if (*d == "f32")
+      c.dtype = ocl::Dtype::F32;
+    else if (*d == "f64")
+      c.dtype = ocl::Dtype::F64;
+    else
+      fail(source, ": field \"dtype\" is ", excerpt(*d), ", expected \"f32\" or \"f64\"");
+  }
+  if (const json* v = top.find("seed")) {
+    if (!v->is_number_unsigned())
+      fail(source, ": field \"seed\" is ", excerpt(*v), ", expected an integer >= 0");
+    c.seed = v->get<uint64_t>();
+  }
+  top.integer("steps", c.steps);
+  top.integer("checkpoint_every", c.checkpointEvery);
+  top.integer("corrections", c.corrections);
+  top.integer("max_fragments", c.maxFragments);
+  if (const json* o = top.find("optimizer")) {
+    Fields f(*o, source, "optimizer");
+    f.number("lr", c.optimizer.lr);
+    f.number("beta1", c.optimizer.beta1);
+    f.number("beta2", c.optimizer.beta2);
+    f.number("eps", c.optimizer.eps);
+    f.number("gamma", c.optimizer.gamma);
+    f.number("clip_grad_norm", c.optimizer.clipGradNorm);
+    f.finish();
+  }
+  if (const json* w = top.find("loss_weights")) {
+    Fields f(*w, source, "loss_weights");
+    for (const std::string& term : lossTermNames())
+      f.number(term, c.lossWeights[term]);
+    f.finish();
+  }
+  if (const json* s = top.find("sampling")) {
+    Fields f(*s, source, "sampling");
+    SamplingConfig& sc = c.sampling;
+    f.integer("min_views", sc.minViews);
+    f.integer("max_views", sc.maxViews);
+    f.integer("novel_views", sc.novelViews);
+    f.integer("window", sc.window);
+    double ch = sc.cropHeight, cw = sc.cropWidth;
+    f.pair("crop", ch, cw);
+    if (ch != std::floor(ch) || cw != std::floor(cw))
+      fail(source, ": field \"sampling.crop\" = [", ch, ", ", cw, "]: expected integers");
+    sc.cropHeight = int(ch);
+    sc.cropWidth = int(cw);
+    f.number("mixup_probability", sc.mixupProbability);
+    f.pair("mixup_lambda", sc.mixupLambdaMin, sc.mixupLambdaMax);
+    f.finish();
+  }
+  top.finish();
+  c.validate(source);
+  return c;
+}
+
+TrainingConfig loadTrainingConfig(const std::string& path) {
+  const std::vector<unsigned char> bytes = readFileBytes(path, "training config");
+  const std::string base = fs::path(path).parent_path().string();
+  return parseTrainingConfig(std::string(bytes.begin(), bytes.end()), path, base);
+}
+
+std::string toJson(const TrainingConfig& c) {
+  json root;
+  root["network"] = json::parse(net::toJson(c.network));
+  root["dtype"] = c.dtype == ocl::Dtype::F64 ? "f64" : "f32";
+  root["seed"] = c.seed;
+  root["steps"] = c.steps;
+  root["checkpoint_every"] = c.checkpointEvery;
+  root["corrections"] = c.corrections;
+  root["max_fragments"] = c.maxFragments;
+  root["optimizer"] = {{"lr", c.optimizer.lr},       {"beta1", c.optimizer.beta1},
+                       {"beta2", c.optimizer.beta2}, {"eps", c.optimizer.eps},
+                       {"gamma", c.optimizer.gamma}, {"clip_grad_norm", c.optimizer.clipGradNorm}};
+  json w = json::object();
+  for (const std::string& term : lossTermNames())
+    w[term] = c.weight(term);
+  root["loss_weights"] = w;
+  const SamplingConfig& s = c.sampling;
+  root["sampling"] = {{"min_views", s.minViews},
+                      {"max_views", s.maxViews},
+                      {"novel_views", s.novelViews},
+                      {"window", s.window},
+                      {"crop", {s.cropHeight, s.cropWidth}},
+                      {"mixup_probability", s.mixupProbability},
+                      {"mixup_lambda", {s.mixupLambdaMin, s.mixupLambdaMax}}};
+  return root.dump(2) + "\n";
+}
+
+std::string firstIncompatibleField(const TrainingConfig& a, const TrainingConfig& b) {
+  json ja = json::parse(toJson(a)), jb = json::parse(toJson(b));
+  for (const char* k : {"steps", "checkpoint_every"}) {
+    ja.erase(k);
+    jb.erase(k);
+  }
+  for (auto it = ja.begin(); it != ja.end(); ++it)
+    if (!jb.contains(it.key()) || jb[it.key()] != it.value())
+      return it.key();
+  return "";
+}
+
+net::NetworkConfig loadNetworkOrTrainingConfig(const std::string& path) {
+  const std::vector<unsigned char> bytes = readFileBytes(path, "config");
+  const std::string text(bytes.begin(), bytes.end());
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::exception& e) {
+    fail(path, ": not valid JSON: ", e.what());
+  }
+  if (root.is_object() && root.contains("network"))
+    return parseTrainingConfig(text, path, fs::path(path).parent_path().string()).network;
+  return net::parseNetworkConfig(text, path);
+}
+
+} // namespace simpli::train

@@ -1,0 +1,187 @@
+// Sampler: distinct frames inside the window, V / N ranges, reproducibility, crop intrinsics,
+// MixUp; the random generator's state round trip.
+#include "test_helpers.h"
+
+#include <simpli/model/reference_camera.h>
+#include <simpli/model/training/train_sampler.h>
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+namespace simpli::train {
+namespace {
+
+Scene fakeScene(int frames, int W = 32, int H = 16) {
+  Scene s;
+  s.root = "fake";
+  for (int i = 0; i < frames; ++i) {
+    SceneView v;
+    v.name = std::to_string(i);
+    v.camera.width = W;
+    v.camera.height = H;
+    v.camera.fx = 0.9;
+    v.camera.fy = 1.7;
+    v.camera.cx = 0.48;
+    v.camera.cy = 0.53;
+    v.camera.t = Eigen::Vector3d(0.01 * i, -0.02 * i, 0.005 * i);
+    v.image = Image(W, H);
+    for (size_t k = 0; k < v.image.data.size(); ++k)
+      v.image.data[k] = float(i) / frames - 0.5f + 1e-4f * float(k % 97);
+    s.views.push_back(std::move(v));
+  }
+  return s;
+}
+
+TEST(TrainRandom, StateRoundTripAndDeterminism) {
+  TrainRandom a(42), b(42), c(43);
+  EXPECT_EQ(a.bits(), b.bits());
+  EXPECT_NE(a.bits(), c.bits());
+  const std::string text = a.stateString();
+  TrainRandom d(0);
+  d.setState(TrainRandom::parseState(text, "test"));
+  for (int i = 0; i < 100; ++i)
+    EXPECT_EQ(a.bits(), d.bits());
+  for (int i = 0; i < 1000; ++i) {
+    const int64_t v = a.uniformInt(-3, 5);
+    EXPECT_GE(v, -3);
+    EXPECT_LE(v, 5);
+    const double u = a.uniform();
+    EXPECT_GE(u, 0.0);
+    EXPECT_LT(u, 1.0);
+  }
+  test::expectError([] { TrainRandom::parseState("12:34", "ckpt/state.json"); },
+                    {"ckpt/state.json", "12:34", "four 16-digit hex words"});
+  test::expectError(
+      [] {
+        TrainRandom::parseState(std::string(16, '0') + ":" + std::string(16, '0') + ":" +
+                                    std::string(16, '0') + ":" + std::string(16, '0'),
+                                "s");
+      },
+      {"all zero"});
+}
+
+TEST(TrainSampler, FramesDistinctInsideWindowAndRanges) {
+  SamplingConfig c;
+  c.minViews = 2;
+  c.maxViews = 8;
+  c.novelViews = 4;
+  c.window = 7;
+  TrainRandom r(1);
+  std::set<int> seenV;
+  for (int it = 0; it < 500; ++it) {
+    const FrameDraw d = drawFrames(12, c, r);
+    const int V = int(d.sources.size()), N = int(d.targets.size());
+    seenV.insert(V);
+    EXPECT_GE(V, 2);
+    EXPECT_LE(V, 8);
+    EXPECT_EQ(N, std::min(4, 12 - V));
+    EXPECT_EQ(d.windowLength, std::min(12, std::max(7, V + N)));
+    std::set<int> all(d.sources.begin(), d.sources.end());
+    all.insert(d.targets.begin(), d.targets.end());
+    EXPECT_EQ(int(all.size()), V + N) << "frames not distinct";
+    for (int f : all) {
+      EXPECT_GE(f, d.windowStart);
+      EXPECT_LT(f, d.windowStart + d.windowLength);
+    }
+  }
+  EXPECT_EQ(seenV.size(), 7u) << "every V in 2..8 should occur";
+  // A 3-frame scene: V clipped to 2, one target.
+  for (int it = 0; it < 50; ++it) {
+    const FrameDraw d = drawFrames(3, c, r);
+    EXPECT_EQ(d.sources.size(), 2u);
+    EXPECT_EQ(d.targets.size(), 1u);
+  }
+  test::expectError([&] { drawFrames(1, c, r); }, {"at least 2 frames", "got 1"});
+}
+
+TEST(TrainSampler, ReproducibleWithSeedAndResumableState) {
+  SamplingConfig c;
+  c.cropHeight = 16;
+  c.cropWidth = 16;
+  const Scene scene = fakeScene(10);
+  Sampler a(c, 7), b(c, 7), other(c, 8);
+  bool differs = false;
+  for (int i = 0; i < 20; ++i) {
+    const TrainingSample sa = a.drawFromScene(scene, 0), sb = b.drawFromScene(scene, 0);
+    const TrainingSample so = other.drawFromScene(scene, 0);
+    EXPECT_EQ(sa.sourceFrames, sb.sourceFrames);
+    EXPECT_EQ(sa.targetFrames, sb.targetFrames);
+    EXPECT_EQ(sa.cropX, sb.cropX);
+    EXPECT_EQ(sa.mixupLambda, sb.mixupLambda);
+    EXPECT_EQ(sa.sources[0].data, sb.sources[0].data);
+    differs |= sa.sourceFrames != so.sourceFrames || sa.cropX != so.cropX;
+  }
+  EXPECT_TRUE(differs) << "another seed should give other samples";
+  // Restoring the state continues the same sequence.
+  Sampler c2(c, 99);
+  c2.random().setState(a.random().state());
+  for (int i = 0; i < 5; ++i)
+    EXPECT_EQ(a.drawFromScene(scene, 0).sourceFrames, c2.drawFromScene(scene, 0).sourceFrames);
+}
+
+TEST(TrainSampler, CropIntrinsicsAnalytic) {
+  Camera cam;
+  cam.width = 192;
+  cam.height = 128;
+  cam.fx = 0.8;
+  cam.fy = 1.2;
+  cam.cx = 0.51;
+  cam.cy = 0.47;
+  const Camera c = cropCamera(cam, 40, 24, 64, 48);
+  EXPECT_EQ(c.width, 64);
+  EXPECT_EQ(c.height, 48);
+  EXPECT_DOUBLE_EQ(c.fx, 0.8 * 192 / 64);
+  EXPECT_DOUBLE_EQ(c.fy, 1.2 * 128 / 48);
+  EXPECT_DOUBLE_EQ(c.cx, (0.51 * 192 - 40) / 64);
+  EXPECT_DOUBLE_EQ(c.cy, (0.47 * 128 - 24) / 48);
+  // A world point projects to the same pixel, shifted by the crop origin.
+  cam.R = Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix();
+  cam.t = Eigen::Vector3d(0.1, -0.2, 0.3);
+  const Camera c2 = cropCamera(cam, 40, 24, 64, 48);
+  const Eigen::Vector3d X(0.4, -0.3, 5.0);
+  const Eigen::Vector2d full = cam.project(X), crop = c2.project(X);
+  EXPECT_NEAR(crop.x() * 64, full.x() * 192 - 40, 1e-9);
+  EXPECT_NEAR(crop.y() * 48, full.y() * 128 - 24, 1e-9);
+}
+
+TEST(TrainSampler, CropPixelsAndReferenceCameraAndMixup) {
+  SamplingConfig c;
+  c.cropHeight = 16;
+  c.cropWidth = 16;
+  c.mixupProbability = 1.0;
+  c.mixupLambdaMin = 0.1;
+  c.mixupLambdaMax = 0.3;
+  const Scene scene = fakeScene(9, 48, 32);
+  Sampler s(c, 3);
+  for (int it = 0; it < 10; ++it) {
+    const TrainingSample t = s.drawFromScene(scene, 0);
+    const int V = int(t.sources.size());
+    ASSERT_EQ(t.cleanSources.size(), size_t(V));
+    for (int v = 0; v < V; ++v) {
+      const Image& full = scene.views[size_t(t.sourceFrames[size_t(v)])].image;
+      const Image& clean = t.cleanSources[size_t(v)];
+      EXPECT_EQ(clean.width, 16);
+      EXPECT_EQ(clean.at(1, 3, 5), full.at(1, t.cropY + 3, t.cropX + 5));
+      const int p = t.mixupPartner[size_t(v)];
+      ASSERT_GE(p, 0);
+      ASSERT_NE(p, v);
+      const double l = t.mixupLambda[size_t(v)];
+      EXPECT_GE(l, 0.1);
+      EXPECT_LT(l, 0.3);
+      const double expect = (1 - l) * clean.at(2, 7, 9) + l * t.cleanSources[size_t(p)].at(2, 7, 9);
+      EXPECT_NEAR(t.sources[size_t(v)].at(2, 7, 9), expect, 1e-6);
+    }
+    const Camera ref = referenceCamera(t.sourceCameras);
+    EXPECT_TRUE(ref.R.isApprox(t.reference.R, 1e-12));
+    EXPECT_DOUBLE_EQ(t.reference.fx, t.sourceCameras[0].fx);
+    EXPECT_EQ(t.sourceCameras[0].width, 16);
+  }
+  SamplingConfig big = c;
+  big.cropHeight = 64;
+  Sampler s2(big, 0);
+  test::expectError([&] { s2.drawFromScene(scene, 0); }, {"crop 64x16", "larger", "32x48"});
+}
+
+} // namespace
+} // namespace simpli::train
