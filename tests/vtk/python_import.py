@@ -8,7 +8,8 @@ import os
 import sys
 
 import vtkmodules.all  # noqa: F401  (the whole of VTK first, as users do)
-from simpli import vtkSIMPLILayerGridSource, vtkSIMPLIRenderView, vtkSIMPLISceneReader
+from simpli import (vtkSIMPLIBuildMLI, vtkSIMPLILayerGridSource, vtkSIMPLIRenderView,
+                    vtkSIMPLISceneReader, vtkSIMPLITrain)
 import simpli
 
 expected_root = os.path.realpath(sys.argv[1])
@@ -19,6 +20,13 @@ assert package_file.startswith(expected_root + os.sep), (
 # The scene reader and the render view are wrapped too (their tests: python_scene_render.py).
 assert vtkSIMPLISceneReader().GetOutputPortInformation(1) is not None
 assert vtkSIMPLIRenderView().GetNumberOfInputPorts() == 2
+# The network filters too (their tests: python_network.py): properties reach the C++ objects.
+build = vtkSIMPLIBuildMLI()
+build.SetSourceViews("0,2")
+assert build.GetSourceViews() == "0,2" and build.GetRandomSeed() == -1
+assert build.GetDepthRange() == vtkSIMPLIBuildMLI.DEPTH_RANGE_CONFIG
+train = vtkSIMPLITrain()
+assert train.GetNumberOfInputPorts() == 0 and train.GetSteps() == -1
 
 src = vtkSIMPLILayerGridSource()
 src.SetWidth(6)

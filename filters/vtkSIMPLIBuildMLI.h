@@ -1,0 +1,204 @@
+/**
+ * @class   vtkSIMPLIBuildMLI
+ * @brief   builds a SIMPLI multi-layer image (MLI) of a scene with the SIMPLI network
+ *
+ * The scene comes from input port 0 (optional): a scene collection as vtkSIMPLISceneReader's
+ * port 0 produces it (views as images with their cameras, NearFar bounds). With nothing
+ * connected, SceneFileName names a scene folder that is read as vtkSIMPLISceneReader reads it
+ * with its defaults (simpli::readScene: normalised, sizes floored to multiples of 16). The two
+ * give the same MLI when the images need no resize (the collection carries 8-bit pixels).
+ *
+ * The network (simpli/model/network/loader.h): weights from WeightsFile (empty = the default
+ * weights, simpli::net::defaultWeightsPath()), config from Config (a name such as "tiny" or
+ * "official-4l", or the path of a JSON file; empty = the one stored in the weights' metadata).
+ * RandomSeed >= 0 initialises the weights randomly instead (testing; WeightsFile must then be
+ * empty). The loaded network is kept between updates while WeightsFile (and its modification
+ * time), Config, RandomSeed and Device stay the same; the last forward pass's MLI is kept too
+ * and reused while the network, the source views' pixels and cameras, the depth range and
+ * CorrectionSteps stay the same (so DropEmptyLayers, EmptyLayerThreshold and
+ * DropTransparentTriangles take effect without rerunning the network).
+ *
+ * The forward pass (simpli/model/generator/generator.h) takes the views listed in SourceViews
+ * ("0,2,5"; empty = every view), with the reference camera at their pose average, the planes
+ * over the config's depth range or the scene's NearFar (DepthRange), and runs CorrectionSteps
+ * MLI corrections (-1 = all of the config's). The number of planes is a property of the trained
+ * network (the layer decoder's group size depends on it): NumberOfPlanes 0 takes the config's,
+ * any other value must equal it (else the request fails naming both); the planes used are
+ * reported in the output's field data.
+ *
+ * Output: a vtkPartitionedDataSetCollection exactly as vtkMLIReader produces it (one
+ * vtkPolyData per layer, back to front, point data RGBA / Color / Alpha / Depth / TCoords, the
+ * reference camera and NumberOfLayers in the field data; see vtkMLIReader). DropEmptyLayers
+ * leaves out the layers whose every alpha is below EmptyLayerThreshold ("auto" layers; when
+ * every layer is empty all are kept, an MLI is never empty); DropTransparentTriangles as in
+ * vtkMLIReader. Further collection field data:
+ *   - "StageNames" (string) and "StageTimes" (double, milliseconds), one tuple per stage:
+ *     read_scene, load_network (near 0 when the cached network was reused), the generator's
+ *     stages (timed with the device queue finished after each) and to_mli, or forward_reused
+ *     (0) when the last MLI was reused, then meshes;
+ *   - "SourceViews" (int, the scene views used), "NumberOfPlanes" (int), "NetworkConfig" and
+ *     "NetworkWeights" (strings: the config's name and where the weights came from).
+ *
+ * Progress: scene, network, then the generator's stages (level 0/1, layers, each correction),
+ * then the meshes. An abort (AbortExecute) is honoured between stages, also inside the forward
+ * pass, and leaves an empty output. Errors (missing or unreadable scene folder, missing weights
+ * file, unknown config, bad SourceViews entry, NumberOfPlanes or CorrectionSteps the network
+ * does not have, OpenCL failures) are reported with vtkErrorMacro naming the property, file and
+ * value; the request fails with an empty output.
+ */
+
+#ifndef vtkSIMPLIBuildMLI_h
+#define vtkSIMPLIBuildMLI_h
+
+#include "vtkPartitionedDataSetCollectionAlgorithm.h"
+#include "vtkSimpliFiltersModule.h" // for export macro
+
+class VTKSIMPLIFILTERS_EXPORT vtkSIMPLIBuildMLI : public vtkPartitionedDataSetCollectionAlgorithm {
+public:
+  static vtkSIMPLIBuildMLI* New();
+  vtkTypeMacro(vtkSIMPLIBuildMLI, vtkPartitionedDataSetCollectionAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The scene folder read when no scene is connected to input port 0.
+   */
+  vtkSetStringMacro(SceneFileName);
+  vtkGetStringMacro(SceneFileName);
+  ///@}
+
+  ///@{
+  /**
+   * The weights (.safetensors); empty = the default weights.
+   */
+  vtkSetStringMacro(WeightsFile);
+  vtkGetStringMacro(WeightsFile);
+  ///@}
+
+  ///@{
+  /**
+   * The network config: a name ("tiny", "official-4l", ...) or a JSON file; empty = the config
+   * stored in the weights file.
+   */
+  vtkSetStringMacro(Config);
+  vtkGetStringMacro(Config);
+  ///@}
+
+  ///@{
+  /**
+   * Leave out the layers whose every alpha is below EmptyLayerThreshold. Default off (all of
+   * the network's layers).
+   */
+  vtkSetMacro(DropEmptyLayers, bool);
+  vtkGetMacro(DropEmptyLayers, bool);
+  vtkBooleanMacro(DropEmptyLayers, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Alpha below which a layer (DropEmptyLayers) or a triangle (DropTransparentTriangles) is
+   * transparent, in [0, 1]. Default 1/255 (what an 8-bit export rounds to 0).
+   */
+  vtkSetClampMacro(EmptyLayerThreshold, double, 0.0, 1.0);
+  vtkGetMacro(EmptyLayerThreshold, double);
+  ///@}
+
+  ///@{
+  /**
+   * Drop the triangles whose three vertices are all transparent (points are kept). Default off.
+   */
+  vtkSetMacro(DropTransparentTriangles, bool);
+  vtkGetMacro(DropTransparentTriangles, bool);
+  vtkBooleanMacro(DropTransparentTriangles, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Planes of the plane sweep: 0 = the config's (default); any other value must equal it.
+   */
+  vtkSetClampMacro(NumberOfPlanes, int, 0, 4096);
+  vtkGetMacro(NumberOfPlanes, int);
+  ///@}
+
+  ///@{
+  /**
+   * MLI correction steps: -1 = all of the config's (default), 0 .. the config's.
+   */
+  vtkSetClampMacro(CorrectionSteps, int, -1, 64);
+  vtkGetMacro(CorrectionSteps, int);
+  ///@}
+
+  ///@{
+  /**
+   * Source views, comma-separated 0-based indices ("0,2,5"); empty = every view (default).
+   */
+  vtkSetStringMacro(SourceViews);
+  vtkGetStringMacro(SourceViews);
+  ///@}
+
+  enum DepthRanges {
+    DEPTH_RANGE_CONFIG = 0, ///< the config's min/max depth (what the network trained with)
+    DEPTH_RANGE_SCENE = 1   ///< the scene's NearFar bounds
+  };
+
+  ///@{
+  /**
+   * Where the planes' depth range comes from. Default DEPTH_RANGE_CONFIG.
+   */
+  vtkSetClampMacro(DepthRange, int, DEPTH_RANGE_CONFIG, DEPTH_RANGE_SCENE);
+  vtkGetMacro(DepthRange, int);
+  ///@}
+
+  ///@{
+  /**
+   * OpenCL device "platform:device" (see `simpli devices`); empty = the current device
+   * (SIMPLI_CL_DEVICE, else the first GPU, else the first CPU).
+   */
+  vtkSetStringMacro(Device);
+  vtkGetStringMacro(Device);
+  ///@}
+
+  ///@{
+  /**
+   * Testing: >= 0 initialises the network randomly with this seed instead of loading weights;
+   * -1 = off (default).
+   */
+  vtkSetClampMacro(RandomSeed, int, -1, VTK_INT_MAX);
+  vtkGetMacro(RandomSeed, int);
+  ///@}
+
+  /**
+   * Forgets the cached network and MLI (the next update loads and runs it again).
+   */
+  void ReleaseNetwork();
+
+protected:
+  vtkSIMPLIBuildMLI();
+  ~vtkSIMPLIBuildMLI() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+                  vtkInformationVector* outputVector) override;
+
+  char* SceneFileName = nullptr;
+  char* WeightsFile = nullptr;
+  char* Config = nullptr;
+  bool DropEmptyLayers = false;
+  double EmptyLayerThreshold = 1.0 / 255.0;
+  bool DropTransparentTriangles = false;
+  int NumberOfPlanes = 0;
+  int CorrectionSteps = -1;
+  char* SourceViews = nullptr;
+  int DepthRange = DEPTH_RANGE_CONFIG;
+  char* Device = nullptr;
+  int RandomSeed = -1;
+
+private:
+  vtkSIMPLIBuildMLI(const vtkSIMPLIBuildMLI&) = delete;
+  void operator=(const vtkSIMPLIBuildMLI&) = delete;
+
+  class vtkInternals;
+  vtkInternals* Internals;
+};
+
+#endif

@@ -1,0 +1,232 @@
+#include "vtkSIMPLITrain.h"
+
+#include "SIMPLIDevice.h"
+
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkObjectFactory.h"
+#include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
+#include "vtkTable.h"
+
+#include "simpli/error.h"
+#include "simpli/model/network/loader.h"
+#include "simpli/model/training/train_config.h"
+#include "simpli/model/training/train_data.h"
+#include "simpli/model/training/trainer.h"
+
+#include <algorithm>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkSIMPLITrain);
+
+namespace {
+
+std::string str(const char* s) {
+  return s ? std::string(s) : std::string();
+}
+
+bool looksLikePath(const std::string& s) {
+  return s.find('/') != std::string::npos ||
+         (s.size() > 5 && s.compare(s.size() - 5, 5, ".json") == 0);
+}
+
+// The training config named by the Config property (see the class description).
+simpli::train::TrainingConfig resolveConfig(const std::string& config) {
+  namespace fs = std::filesystem;
+  if (!looksLikePath(config)) {
+    const std::string shipped = simpli::net::networkConfigDir() + "/training/" + config + ".json";
+    if (fs::exists(shipped))
+      return simpli::train::loadTrainingConfig(shipped);
+    simpli::train::TrainingConfig out;
+    out.network = simpli::net::resolveNetworkConfig(config);
+    return out;
+  }
+  if (!fs::exists(config))
+    simpli::fail("Config '", config, "': the file does not exist");
+  try {
+    return simpli::train::loadTrainingConfig(config);
+  } catch (const simpli::Error& asTraining) {
+    // Not a training config: a network config trained with the default settings?
+    try {
+      simpli::train::TrainingConfig out;
+      out.network = simpli::net::resolveNetworkConfig(config);
+      return out;
+    } catch (const simpli::Error&) {
+      simpli::fail("Config '", config,
+                   "' is neither a training config nor a network config; as a training config: ",
+                   asTraining.what());
+    }
+  }
+}
+
+vtkSmartPointer<vtkDoubleArray> doubleColumn(const std::string& name) {
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name.c_str());
+  return a;
+}
+
+vtkSmartPointer<vtkIntArray> intValue(const char* name, long long value) {
+  auto a = vtkSmartPointer<vtkIntArray>::New();
+  a->SetName(name);
+  a->InsertNextValue(static_cast<int>(value));
+  return a;
+}
+
+} // namespace
+
+vtkSIMPLITrain::vtkSIMPLITrain() {
+  this->SetNumberOfInputPorts(0);
+  this->SetNumberOfOutputPorts(1);
+}
+
+vtkSIMPLITrain::~vtkSIMPLITrain() {
+  this->SetDataPath(nullptr);
+  this->SetConfig(nullptr);
+  this->SetRunDirectory(nullptr);
+  this->SetVGGWeightsFile(nullptr);
+  this->SetDevice(nullptr);
+}
+
+int vtkSIMPLITrain::RequestData(vtkInformation* vtkNotUsed(request),
+                                vtkInformationVector** vtkNotUsed(inputVector),
+                                vtkInformationVector* outputVector) {
+  vtkTable* output = vtkTable::GetData(outputVector);
+  if (!output) {
+    vtkErrorMacro(<< "No vtkTable output to fill");
+    return 0;
+  }
+  output->Initialize();
+
+  try {
+    if (str(this->DataPath).empty())
+      simpli::fail("DataPath is not set (a scene folder, a folder of scenes, or synthetic[:seed])");
+    if (str(this->RunDirectory).empty())
+      simpli::fail("RunDirectory is not set (the run folder: new or empty, or the run to resume)");
+    if (this->CheckpointEvery == 0)
+      simpli::fail("CheckpointEvery 0: must be >= 1 (or -1 for the config's)");
+    if ((this->ImageSize[0] > 0) != (this->ImageSize[1] > 0) || this->ImageSize[0] < 0 ||
+        this->ImageSize[1] < 0)
+      simpli::fail("ImageSize (", this->ImageSize[0], ", ", this->ImageSize[1],
+                   "): give both width and height (> 0), or (0, 0) to keep the images' size");
+
+    std::unique_ptr<simpli::train::TrainingConfig> config;
+    if (!str(this->Config).empty()) {
+      try {
+        config = std::make_unique<simpli::train::TrainingConfig>(resolveConfig(this->Config));
+      } catch (const simpli::Error& e) {
+        const std::string what = e.what();
+        // Messages from resolveConfig already name the property.
+        if (what.rfind("Config '", 0) == 0)
+          throw;
+        simpli::fail("Config '", this->Config, "': ", what);
+      }
+    } else if (!this->Resume) {
+      simpli::fail("Config is not set: a new run needs a training config or a network config "
+                   "(e.g. tiny); only a resumed run (Resume) uses its own config.json");
+    }
+
+    simpli::vtkdevice::selectDevice(str(this->Device), "Device");
+
+    // The table's columns; rows are appended by onStep.
+    const std::vector<std::string>& termNames = simpli::train::lossTermNames();
+    auto stepColumn = vtkSmartPointer<vtkIntArray>::New();
+    stepColumn->SetName("step");
+    std::vector<vtkSmartPointer<vtkDoubleArray>> termColumns;
+    for (const std::string& name : termNames)
+      termColumns.push_back(doubleColumn(name));
+    auto total = doubleColumn("total"), lr = doubleColumn("lr");
+    auto gradNorm = doubleColumn("grad_norm"), ms = doubleColumn("step_ms");
+    auto skipped = vtkSmartPointer<vtkIntArray>::New();
+    skipped->SetName("skipped");
+    auto messages = vtkSmartPointer<vtkStringArray>::New();
+    messages->SetName("Messages");
+
+    simpli::train::TrainerOptions options;
+    options.data = this->DataPath;
+    options.runDir = this->RunDirectory;
+    options.resume = this->Resume;
+    options.steps = this->Steps;
+    options.checkpointEvery = this->CheckpointEvery;
+    options.vggPath = str(this->VGGWeightsFile);
+    options.dataOptions.width = this->ImageSize[0];
+    options.dataOptions.height = this->ImageSize[1];
+    if (this->Seed >= 0)
+      options.seed = static_cast<uint64_t>(this->Seed);
+    // Polled between steps: the trainer then writes a checkpoint and returns.
+    options.stopRequested = [this] { return this->GetAbortExecute() != 0; };
+    options.message = [this, messages](const std::string& line) {
+      messages->InsertNextValue(line);
+      vtkDebugMacro(<< line);
+    };
+    int64_t totalSteps = 1;
+    options.onStep = [&](const simpli::train::StepReport& r) {
+      stepColumn->InsertNextValue(static_cast<int>(r.step));
+      for (std::size_t i = 0; i < termColumns.size(); ++i)
+        termColumns[i]->InsertNextValue(i < r.terms.size() ? r.terms[i].second : vtkMath::Nan());
+      total->InsertNextValue(r.total);
+      lr->InsertNextValue(r.lr);
+      gradNorm->InsertNextValue(r.gradNorm);
+      ms->InsertNextValue(r.ms);
+      skipped->InsertNextValue(r.skipped ? 1 : 0);
+      this->UpdateProgress(static_cast<double>(r.step) / static_cast<double>(totalSteps));
+    };
+
+    this->UpdateProgress(0.0);
+    simpli::train::Trainer trainer(config.get(), options);
+    totalSteps = std::max<int64_t>(1, trainer.totalSteps());
+    const simpli::train::Trainer::RunResult result = trainer.run();
+
+    output->AddColumn(stepColumn);
+    for (auto& column : termColumns)
+      output->AddColumn(column);
+    output->AddColumn(total);
+    output->AddColumn(lr);
+    output->AddColumn(gradNorm);
+    output->AddColumn(ms);
+    output->AddColumn(skipped);
+    vtkFieldData* fd = output->GetFieldData();
+    auto runDir = vtkSmartPointer<vtkStringArray>::New();
+    runDir->SetName("RunDirectory");
+    runDir->InsertNextValue(this->RunDirectory);
+    fd->AddArray(runDir);
+    fd->AddArray(messages);
+    fd->AddArray(intValue("FinalStep", result.steps));
+    fd->AddArray(intValue("TotalSteps", trainer.totalSteps()));
+    fd->AddArray(intValue("Interrupted", result.interrupted ? 1 : 0));
+    if (!result.interrupted)
+      this->UpdateProgress(1.0);
+    return 1;
+  } catch (const simpli::Error& e) {
+    vtkErrorMacro(<< "SIMPLI Train (RunDirectory '" << str(this->RunDirectory)
+                  << "'): " << e.what());
+  } catch (const std::exception& e) {
+    vtkErrorMacro(<< "SIMPLI Train (RunDirectory '" << str(this->RunDirectory)
+                  << "'): unexpected failure: " << e.what());
+  }
+  output->Initialize();
+  return 0;
+}
+
+void vtkSIMPLITrain::PrintSelf(ostream& os, vtkIndent indent) {
+  this->Superclass::PrintSelf(os, indent);
+  auto s = [](const char* v) { return v ? v : "(none)"; };
+  os << indent << "DataPath: " << s(this->DataPath) << "\n";
+  os << indent << "Config: " << s(this->Config) << "\n";
+  os << indent << "RunDirectory: " << s(this->RunDirectory) << "\n";
+  os << indent << "Steps: " << this->Steps << "\n";
+  os << indent << "CheckpointEvery: " << this->CheckpointEvery << "\n";
+  os << indent << "Resume: " << this->Resume << "\n";
+  os << indent << "VGGWeightsFile: " << s(this->VGGWeightsFile) << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "ImageSize: " << this->ImageSize[0] << " " << this->ImageSize[1] << "\n";
+  os << indent << "Device: " << (this->Device ? this->Device : "(current)") << "\n";
+}
