@@ -31,7 +31,7 @@ namespace {
 
 struct BenchInferOptions {
   std::string config = "official-4l";
-  std::string size = "384x512";
+  std::string size = "512x384";
   std::vector<int> views{4, 8};
   int repeat = 1;
   int corrections = -1;
@@ -72,8 +72,8 @@ void runBenchInfer(const BenchInferOptions& o) {
   }
   int H = 0, W = 0;
   char tail = 0;
-  if (std::sscanf(o.size.c_str(), "%dx%d%c", &H, &W, &tail) != 2 || H <= 0 || W <= 0)
-    fail("--size '", o.size, "': expected HEIGHTxWIDTH, e.g. 384x512");
+  if (std::sscanf(o.size.c_str(), "%dx%d%c", &W, &H, &tail) != 2 || H <= 0 || W <= 0)
+    fail("--size '", o.size, "': expected WIDTHxHEIGHT, e.g. 512x384");
   if (H % 8 || W % 8)
     fail("--size ", o.size, ": height and width must be multiples of 8");
   if (o.repeat < 1)
@@ -133,7 +133,8 @@ void addBenchInferCommand(CLI::App& bench) {
       "infer", "Time the generator's forward pass per stage and its peak device memory");
   cmd->add_option("--config", o->config,
                   "Network config (official-4l, official-8l, a name in model/configs or a .json)");
-  cmd->add_option("--size", o->size, "Image size HEIGHTxWIDTH (default 384x512)");
+  cmd->add_option("--size", o->size,
+                  "Image size WIDTHxHEIGHT (default 512x384, the reference's 384 x 512)");
   cmd->add_option("--views", o->views, "Source view counts to run (comma separated)")
       ->delimiter(',');
   cmd->add_option("--repeat", o->repeat, "Timed passes per view count (median reported)");

@@ -55,7 +55,7 @@ void runEval(const EvalCliOptions& o) {
   }
   train::DataOptions data;
   if (!o.size.empty())
-    train::parseHeightWidth(o.size, "--size", data.height, data.width);
+    train::parseWidthHeight(o.size, "--size", data.width, data.height);
   auto source = train::openTrainingData(o.data, data);
   net::SimpliNetwork network(config, o.dtype == "f64" ? ocl::Dtype::F64 : ocl::Dtype::F32);
   network.parameters().load(o.weights);
@@ -107,7 +107,7 @@ void addEvalCommand(CLI::App& app) {
   cmd->add_option("--seed", opts->seed, "Sampling seed")->capture_default_str();
   cmd->add_option("--corrections", opts->corrections, "MLI corrections to run (-1 = all)")
       ->capture_default_str();
-  cmd->add_option("--size", opts->size, "Resize the images to HEIGHTxWIDTH");
+  cmd->add_option("--size", opts->size, "Resize the images to WIDTHxHEIGHT (multiples of 16)");
   cmd->add_option("--dtype", opts->dtype, "f32 or f64")->capture_default_str();
   cmd->add_option("--device", opts->device, "OpenCL device p:d (see `simpli devices`)");
   cmd->callback([opts] { runEval(*opts); });

@@ -70,7 +70,7 @@ int runTrain(const TrainCliOptions& o) {
   t.checkpointEvery = o.checkpointEvery;
   t.vggPath = o.vgg;
   if (!o.size.empty())
-    train::parseHeightWidth(o.size, "--size", t.dataOptions.height, t.dataOptions.width);
+    train::parseWidthHeight(o.size, "--size", t.dataOptions.width, t.dataOptions.height);
   if (o.seed >= 0)
     t.seed = uint64_t(o.seed);
   if (o.steps < -1)
@@ -137,7 +137,8 @@ void addTrainCommand(CLI::App& app) {
                   "Steps between checkpoints (default: the config's)");
   cmd->add_option("--vgg", opts->vgg,
                   "VGG-19 weights (safetensors, torchvision key names) for the perceptual loss");
-  cmd->add_option("--size", opts->size, "Resize the images to HEIGHTxWIDTH, e.g. 128x192");
+  cmd->add_option("--size", opts->size,
+                  "Resize the images to WIDTHxHEIGHT, e.g. 192x128 (multiples of 16)");
   cmd->add_option("--seed", opts->seed, "Seed of the network initialisation and sampling");
   cmd->add_option("--device", opts->device, "OpenCL device p:d (see `simpli devices`)");
   cmd->callback([opts] {

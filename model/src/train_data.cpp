@@ -73,7 +73,7 @@ public:
   }
   std::string describe() const override {
     return "synthetic scenes (seed " + std::to_string(seed_) + ", " +
-           std::to_string(source_.params().height) + "x" + std::to_string(source_.params().width) +
+           std::to_string(source_.params().width) + "x" + std::to_string(source_.params().height) +
            ")";
   }
 
@@ -94,13 +94,13 @@ private:
 
 } // namespace
 
-void parseHeightWidth(const std::string& text, const std::string& what, int& height, int& width) {
+void parseWidthHeight(const std::string& text, const std::string& what, int& width, int& height) {
   static const std::regex pattern("^\\s*([0-9]{1,6})\\s*[xX]\\s*([0-9]{1,6})\\s*$");
   std::smatch m;
   if (!std::regex_match(text, m, pattern))
-    fail(what, " '", text, "': expected HEIGHTxWIDTH in pixels, e.g. 128x192");
-  height = std::stoi(m[1].str());
-  width = std::stoi(m[2].str());
+    fail(what, " '", text, "': expected WIDTHxHEIGHT in pixels, e.g. 192x128");
+  width = std::stoi(m[1].str());
+  height = std::stoi(m[2].str());
   if (height < 16 || width < 16 || height % 16 != 0 || width % 16 != 0)
     fail(what, " '", text, "': height and width must be positive multiples of 16");
 }

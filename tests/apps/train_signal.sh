@@ -9,7 +9,7 @@ fail() { echo "FAIL: $*"; for f in "$work"/out* "$work"/err*; do echo "--- $f"; 
 rm -rf "$work" && mkdir -p "$work" || exit 1
 run="$work/run"
 
-"$simpli" train "$scene" --config "$config" --out "$run" --size 32x48 --steps 100000 \
+"$simpli" train "$scene" --config "$config" --out "$run" --size 48x32 --steps 100000 \
   --checkpoint-every 100000 > "$work/out1" 2> "$work/err1" &
 pid=$!
 # Wait for the first logged step (header + one row), then signal.
@@ -38,7 +38,7 @@ rows=$(($(wc -l < "$run/log.csv") - 1))
 [ "$rows" -eq "$step" ] || fail "log has $rows rows, checkpoint is at step $step"
 
 # Resume for one more step (the run's own config; no --config needed).
-"$simpli" train "$scene" --out "$run" --resume --size 32x48 --steps $((step + 1)) \
+"$simpli" train "$scene" --out "$run" --resume --size 48x32 --steps $((step + 1)) \
   > "$work/out2" 2> "$work/err2" || fail "resume failed"
 grep -q "resumed from .*step_0*$step at step $step" "$work/err2" || fail "no resume message"
 grep -q "^finished at step $((step + 1))" "$work/out2" || fail "resume did not finish"
@@ -54,7 +54,7 @@ grep -q "already exists and is not empty; use --resume" "$work/err3" || fail "no
 config_arg=(--config "$run/config.json")
 [ "$sig" = TERM ] && config_arg=()
 "$simpli" eval "$scene" --weights "$run/weights.safetensors" "${config_arg[@]}" \
-  --size 32x48 --views 2 --novel 1 --repeats 2 > "$work/out4" 2> "$work/err4" || fail "eval failed"
+  --size 48x32 --views 2 --novel 1 --repeats 2 > "$work/out4" 2> "$work/err4" || fail "eval failed"
 grep -Eq "model +PSNR +[0-9.]+ \+- [0-9.]+ dB +SSIM" "$work/out4" || fail "eval: no model line"
 grep -Eq "nearest source view +PSNR" "$work/out4" || fail "eval: no baseline line"
 cat "$work/out1" "$work/out2" "$work/out4"

@@ -1,5 +1,7 @@
 // Scene -> generator input: image layout, cameras, reference camera, view selection, depth
 // range, and the errors for bad view lists. Uses the bundled synthetic scene.
+#include "test_helpers.h"
+
 #include <simpli/error.h>
 #include <simpli/model/generator/scene_input.h>
 #include <simpli/model/reference_camera.h>
@@ -14,17 +16,6 @@ namespace {
 const Scene& bundled() {
   static const Scene scene = readScene(std::string(SIMPLI_DATA_DIR) + "/synthetic/scene_00");
   return scene;
-}
-
-void expectErrorWith(const std::function<void()>& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "expected simpli::Error";
-  } catch (const Error& e) {
-    for (const auto& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-          << "message '" << e.what() << "' lacks '" << p << "'";
-  }
 }
 
 } // namespace
@@ -66,13 +57,13 @@ TEST(SceneInput, BadViewListsNameTheSceneAndTheView) {
   const Scene& scene = bundled();
   SceneInputOptions options;
   options.views = {0, static_cast<int>(scene.size())};
-  expectErrorWith([&] { sceneInput(scene, options); },
-                  {"scene_00", "source view " + std::to_string(scene.size()), "out of range"});
+  test::expectError([&] { sceneInput(scene, options); },
+                    {"scene_00", "source view " + std::to_string(scene.size()), "out of range"});
   options.views = {1, 1};
-  expectErrorWith([&] { sceneInput(scene, options); }, {"scene_00", "view 1", "twice"});
+  test::expectError([&] { sceneInput(scene, options); }, {"scene_00", "view 1", "twice"});
   options.views = {-1};
-  expectErrorWith([&] { sceneInput(scene, options); }, {"view -1"});
+  test::expectError([&] { sceneInput(scene, options); }, {"view -1"});
   Scene empty;
   empty.root = "/nowhere/empty";
-  expectErrorWith([&] { sceneInput(empty); }, {"/nowhere/empty", "no views"});
+  test::expectError([&] { sceneInput(empty); }, {"/nowhere/empty", "no views"});
 }

@@ -8,11 +8,8 @@ usage: pv_layer_grid.py [--plugin SO] [--png OUT] [--expect-under DIR]
                   (proves that an installed plugin finds its installed library)
 """
 import argparse
-import ctypes
-import ctypes.util
 import os
 import sys
-import time
 
 from paraview.simple import (ColorBy, CreateRenderView, LoadPlugin, Render, SaveScreenshot,
                              Show)
@@ -25,37 +22,13 @@ parser.add_argument("--expect-under")
 args = parser.parse_args()
 
 
-def fail(message):
-    print("FAIL:", message, file=sys.stderr)
-    sys.exit(1)
-
-
-def hold_x_display(timeout=30.0):
-    """Open (and keep open until exit) a connection to the X server in $DISPLAY.
-
-    Xvfb resets itself whenever its last client disconnects, and a client connecting during
-    that reset is refused. VTK then aborts the whole process ("bad X server connection"), which
-    made about one run in ten fail when ctest starts render tests back to back under one
-    xvfb-run. Waiting here for a connection, and holding it, keeps the server from resetting
-    under us. Without a display this fails with a clear message instead of VTK's SIGABRT.
-    """
-    if not os.environ.get("DISPLAY"):
-        fail("no DISPLAY: rendering needs an X server (run the tests under xvfb-run)")
-    x11 = ctypes.CDLL(ctypes.util.find_library("X11") or "libX11.so.6")
-    x11.XOpenDisplay.restype = ctypes.c_void_p
-    x11.XOpenDisplay.argtypes = [ctypes.c_char_p]
-    deadline = time.monotonic() + timeout
-    while True:
-        handle = x11.XOpenDisplay(None)
-        if handle:
-            return handle
-        if time.monotonic() > deadline:
-            fail(f"cannot connect to the X server DISPLAY={os.environ['DISPLAY']}")
-        time.sleep(0.05)
 
 
 if args.png:
-    x_connection = hold_x_display()
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pv_support import fail, hold_x_display  # noqa: E402
+
+x_connection = hold_x_display()
 
 if args.plugin:
     LoadPlugin(args.plugin, ns=globals())

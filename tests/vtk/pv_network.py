@@ -10,13 +10,10 @@ SIMPLIRenderView on the built MLI, and one SIMPLITrain step into DIR/run. Render
 needs an X server (xvfb-run).
 """
 import argparse
-import ctypes
-import ctypes.util
 import math
 import os
 import shutil
 import sys
-import time
 
 parser = argparse.ArgumentParser()
 parser.add_argument("--plugin", required=True)
@@ -25,28 +22,10 @@ parser.add_argument("--workdir", required=True)
 args = parser.parse_args()
 
 
-def fail(message):
-    print("FAIL:", message, file=sys.stderr)
-    sys.exit(1)
 
 
-def hold_x_display(timeout=30.0):
-    """Connect to $DISPLAY and keep the connection until exit (see pv_layer_grid.py: Xvfb
-    resets when its last client leaves, and VTK aborts on a refused connection)."""
-    if not os.environ.get("DISPLAY"):
-        fail("no DISPLAY: rendering needs an X server (run the tests under xvfb-run)")
-    x11 = ctypes.CDLL(ctypes.util.find_library("X11") or "libX11.so.6")
-    x11.XOpenDisplay.restype = ctypes.c_void_p
-    x11.XOpenDisplay.argtypes = [ctypes.c_char_p]
-    deadline = time.monotonic() + timeout
-    while True:
-        handle = x11.XOpenDisplay(None)
-        if handle:
-            return handle
-        if time.monotonic() > deadline:
-            fail(f"cannot connect to the X server DISPLAY={os.environ['DISPLAY']}")
-        time.sleep(0.05)
-
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pv_support import fail, hold_x_display  # noqa: E402
 
 x_connection = hold_x_display()
 

@@ -1,5 +1,7 @@
 // Network loading shared by the CLI and the filters: config resolution by name or file,
 // config from weights metadata, weights round trip, and the errors a user meets.
+#include "../test_helpers.h"
+
 #include <simpli/error.h>
 #include <simpli/model/network/loader.h>
 
@@ -22,17 +24,6 @@ fs::path scratch(const std::string& name) {
   return dir;
 }
 
-void expectErrorWith(const std::function<void()>& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "expected simpli::Error";
-  } catch (const Error& e) {
-    for (const auto& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-          << "message '" << e.what() << "' lacks '" << p << "'";
-  }
-}
-
 } // namespace
 
 TEST(NetLoader, ResolvesBuiltInShippedAndFileConfigs) {
@@ -41,8 +32,8 @@ TEST(NetLoader, ResolvesBuiltInShippedAndFileConfigs) {
   const NetworkConfig tiny = resolveNetworkConfig("tiny");
   EXPECT_EQ(tiny, loadNetworkConfig(networkConfigDir() + "/tiny.json"));
   EXPECT_EQ(resolveNetworkConfig(networkConfigDir() + "/tiny.json"), tiny);
-  expectErrorWith([] { resolveNetworkConfig("no-such-config"); },
-                  {"no-such-config", "does not exist", "official-4l"});
+  test::expectError([] { resolveNetworkConfig("no-such-config"); },
+                    {"no-such-config", "does not exist", "official-4l"});
 }
 
 TEST(NetLoader, WeightsRoundTripWithTheConfigInTheirMetadata) {
@@ -79,19 +70,19 @@ TEST(NetLoader, RandomInitialisationAndErrors) {
   EXPECT_EQ(random.network->config(), resolveNetworkConfig("tiny"));
   EXPECT_NE(random.weightsDescription.find("random"), std::string::npos);
   const fs::path dir = scratch("errors");
-  expectErrorWith([&] { loadNetwork("", (dir / "missing.safetensors").string(), std::nullopt); },
-                  {"missing.safetensors", "does not exist"});
+  test::expectError([&] { loadNetwork("", (dir / "missing.safetensors").string(), std::nullopt); },
+                    {"missing.safetensors", "does not exist"});
   const std::string bare = (dir / "bare.safetensors").string();
   {
     SimpliNetwork net(resolveNetworkConfig("tiny"), ocl::Dtype::F32, 1);
     net.parameters().save(bare);
   }
-  expectErrorWith([&] { loadNetwork("", bare, std::nullopt); }, {"bare.safetensors", "config"});
-  expectErrorWith([&] { loadNetwork("tiny", bare, 5); }, {"bare.safetensors", "exclude"});
+  test::expectError([&] { loadNetwork("", bare, std::nullopt); }, {"bare.safetensors", "config"});
+  test::expectError([&] { loadNetwork("tiny", bare, 5); }, {"bare.safetensors", "exclude"});
   // Weights of another architecture: the missing parameter is named.
-  expectErrorWith([&] { loadNetwork("official-4l", bare, std::nullopt); }, {"bare.safetensors"});
+  test::expectError([&] { loadNetwork("official-4l", bare, std::nullopt); }, {"bare.safetensors"});
   ::setenv("SIMPLI_DEFAULT_WEIGHTS", (dir / "none.safetensors").string().c_str(), 1);
-  expectErrorWith([] { loadNetwork("", "", std::nullopt); },
-                  {"none.safetensors", "missing", "simpli train"});
+  test::expectError([] { loadNetwork("", "", std::nullopt); },
+                    {"none.safetensors", "missing", "simpli train"});
   ::unsetenv("SIMPLI_DEFAULT_WEIGHTS");
 }

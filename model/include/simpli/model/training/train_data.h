@@ -33,7 +33,8 @@ public:
 std::unique_ptr<TrainingData> openTrainingData(const std::string& spec,
                                                const DataOptions& options = {});
 
-/// "HxW" (e.g. "128x192") -> height, width; `what` names the option in errors.
-void parseHeightWidth(const std::string& text, const std::string& what, int& height, int& width);
+/// "WxH" (e.g. "192x128", as every simpli --size) -> width, height, both positive multiples
+/// of 16; `what` names the option in errors.
+void parseWidthHeight(const std::string& text, const std::string& what, int& width, int& height);
 
 } // namespace simpli::train
