@@ -79,7 +79,7 @@ int runTrain(const TrainCliOptions& o) {
     fail("--checkpoint-every ", o.checkpointEvery, ": must be >= 1");
   std::unique_ptr<train::TrainingConfig> config;
   if (!o.config.empty())
-    config = std::make_unique<train::TrainingConfig>(train::loadTrainingConfig(o.config));
+    config = std::make_unique<train::TrainingConfig>(train::resolveTrainingConfig(o.config));
   else if (!o.resume)
     fail("--config is required for a new run (a resumed run uses its own config.json)");
 
@@ -127,7 +127,8 @@ void addTrainCommand(CLI::App& app) {
                   "A scene folder, a folder of scene folders, or synthetic[:SEED]")
       ->required();
   cmd->add_option("--config", opts->config,
-                  "Training config JSON (network, optimiser, loss weights, sampling); optional "
+                  "Training config: a name (tiny, official-4l: model/configs/training/NAME.json, "
+                  "else a network config with default settings) or a JSON file; optional "
                   "with --resume");
   cmd->add_option("--out", opts->out, "Run folder (new, or the run to continue with --resume)")
       ->required();

@@ -21,7 +21,6 @@
 
 #include <algorithm>
 #include <exception>
-#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,40 +31,6 @@ namespace {
 
 std::string str(const char* s) {
   return s ? std::string(s) : std::string();
-}
-
-bool looksLikePath(const std::string& s) {
-  return s.find('/') != std::string::npos ||
-         (s.size() > 5 && s.compare(s.size() - 5, 5, ".json") == 0);
-}
-
-// The training config named by the Config property (see the class description).
-simpli::train::TrainingConfig resolveConfig(const std::string& config) {
-  namespace fs = std::filesystem;
-  if (!looksLikePath(config)) {
-    const std::string shipped = simpli::net::networkConfigDir() + "/training/" + config + ".json";
-    if (fs::exists(shipped))
-      return simpli::train::loadTrainingConfig(shipped);
-    simpli::train::TrainingConfig out;
-    out.network = simpli::net::resolveNetworkConfig(config);
-    return out;
-  }
-  if (!fs::exists(config))
-    simpli::fail("Config '", config, "': the file does not exist");
-  try {
-    return simpli::train::loadTrainingConfig(config);
-  } catch (const simpli::Error& asTraining) {
-    // Not a training config: a network config trained with the default settings?
-    try {
-      simpli::train::TrainingConfig out;
-      out.network = simpli::net::resolveNetworkConfig(config);
-      return out;
-    } catch (const simpli::Error&) {
-      simpli::fail("Config '", config,
-                   "' is neither a training config nor a network config; as a training config: ",
-                   asTraining.what());
-    }
-  }
 }
 
 vtkSmartPointer<vtkDoubleArray> doubleColumn(const std::string& name) {
@@ -121,7 +86,8 @@ int vtkSIMPLITrain::RequestData(vtkInformation* vtkNotUsed(request),
     std::unique_ptr<simpli::train::TrainingConfig> config;
     if (!str(this->Config).empty()) {
       try {
-        config = std::make_unique<simpli::train::TrainingConfig>(resolveConfig(this->Config));
+        config = std::make_unique<simpli::train::TrainingConfig>(
+            simpli::train::resolveTrainingConfig(this->Config));
       } catch (const simpli::Error& e) {
         const std::string what = e.what();
         // Messages from resolveConfig already name the property.

@@ -1,6 +1,8 @@
 // TrainingConfig: strict JSON reading (unknown keys rejected), writing and validation.
 #include "simpli/model/training/train_config.h"
 
+#include "simpli/model/network/loader.h"
+
 #include "simpli/error.h"
 #include "simpli/model/file_io.h"
 
@@ -304,6 +306,43 @@ net::NetworkConfig loadNetworkOrTrainingConfig(const std::string& path) {
   if (root.is_object() && root.contains("network"))
     return parseTrainingConfig(text, path, fs::path(path).parent_path().string()).network;
   return net::parseNetworkConfig(text, path);
+}
+
+namespace {
+
+bool looksLikePath(const std::string& s) {
+  return s.find('/') != std::string::npos ||
+         (s.size() > 5 && s.compare(s.size() - 5, 5, ".json") == 0);
+}
+
+} // namespace
+
+TrainingConfig resolveTrainingConfig(const std::string& config) {
+  namespace fs = std::filesystem;
+  if (!looksLikePath(config)) {
+    const std::string shipped = net::networkConfigDir() + "/training/" + config + ".json";
+    if (fs::exists(shipped))
+      return loadTrainingConfig(shipped);
+    TrainingConfig out;
+    out.network = net::resolveNetworkConfig(config);
+    return out;
+  }
+  if (!fs::exists(config))
+    fail("Config '", config, "': the file does not exist");
+  try {
+    return loadTrainingConfig(config);
+  } catch (const Error& asTraining) {
+    // Not a training config: a network config trained with the default settings?
+    try {
+      TrainingConfig out;
+      out.network = net::resolveNetworkConfig(config);
+      return out;
+    } catch (const Error&) {
+      fail("Config '", config,
+           "' is neither a training config nor a network config; as a training config: ",
+           asTraining.what());
+    }
+  }
 }
 
 } // namespace simpli::train

@@ -1,6 +1,7 @@
 // Training config (defaults, strictness, round trip) and the CSV log (append, resume cut).
 #include "test_helpers.h"
 
+#include <simpli/model/network/loader.h>
 #include <simpli/model/training/train_config.h>
 #include <simpli/model/training/train_log.h>
 
@@ -90,6 +91,21 @@ TEST(TrainConfig, BadInputNamesFieldAndValue) {
   expectError(
       [] { parseTrainingConfig(R"({"network": "official-4l", "dtype": "f16"})", "a.json", ""); },
       {"dtype", "f16"});
+}
+
+TEST(TrainConfig, ResolvesNamesAndFilesAsTheCliAndTheFilterDo) {
+  // A shipped training config by name, a network config by name with default settings, a
+  // network-config file, and an unknown name.
+  const TrainingConfig tiny = resolveTrainingConfig("tiny");
+  EXPECT_EQ(tiny.network, net::resolveNetworkConfig("tiny"));
+  EXPECT_EQ(tiny.steps, loadTrainingConfig(net::networkConfigDir() + "/training/tiny.json").steps);
+  const TrainingConfig eight = resolveTrainingConfig("official-8l");
+  EXPECT_EQ(eight.network, net::officialConfig(8));
+  EXPECT_EQ(eight.steps, TrainingConfig{}.steps);
+  const TrainingConfig fromFile = resolveTrainingConfig(net::networkConfigDir() + "/tiny-mpi.json");
+  EXPECT_TRUE(fromFile.network.mpiOnly);
+  test::expectError([] { resolveTrainingConfig("no-such-config"); }, {"no-such-config"});
+  test::expectError([] { resolveTrainingConfig("/nowhere/c.json"); }, {"/nowhere/c.json"});
 }
 
 TEST(TrainLog, AppendsAndCutsBackOnResume) {

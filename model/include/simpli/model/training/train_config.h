@@ -92,4 +92,11 @@ std::string firstIncompatibleField(const TrainingConfig& a, const TrainingConfig
 /// training config (its "network") or a network config.
 net::NetworkConfig loadNetworkOrTrainingConfig(const std::string& path);
 
+/// The training config a user names (`simpli train --config`, vtkSIMPLITrain's Config): a name
+/// is the shipped <networkConfigDir()>/training/<name>.json if it exists, else the network
+/// config of that name trained with the default settings; a path (containing '/' or ending in
+/// .json) is a training config or, failing that, a network config with default settings.
+/// Throws simpli::Error naming the config.
+TrainingConfig resolveTrainingConfig(const std::string& nameOrPath);
+
 } // namespace simpli::train
