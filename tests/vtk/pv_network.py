@@ -25,16 +25,14 @@ args = parser.parse_args()
 
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from pv_support import fail, hold_x_display  # noqa: E402
+from pv_support import fail, hold_x_display, screenshot_from_camera  # noqa: E402
 
 x_connection = hold_x_display()
 
 import numpy as np  # noqa: E402
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
-from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
 
-from paraview.simple import (ColorBy, CreateRenderView, LoadPlugin, OutputPort,  # noqa: E402
-                             Render, SaveScreenshot, SetActiveSource, Show)
+from paraview.simple import LoadPlugin, OutputPort, SetActiveSource  # noqa: E402
 
 shutil.rmtree(args.workdir, ignore_errors=True)
 os.makedirs(args.workdir)
@@ -97,30 +95,8 @@ if from_folder.GetDataInformation().GetNumberOfPoints() != 4 * 96 * 64:
 print("Build MLI from Scene File Name OK")
 
 # --- the layers in a render view, RGBA directly (MapScalars off) ------------------------------
-R, t = E[:, :3], E[:, 3]
-C = -R.T @ t
-view = CreateRenderView()
-view.ViewSize = [W, H]
-view.OrientationAxesVisibility = 0
-view.UseColorPaletteForBackground = 0
-view.Background = [0.0, 0.0, 0.0]
-display = Show(build, view)
-ColorBy(display, ("POINTS", "RGBA"))
-display.MapScalars = 0
-display.Ambient, display.Diffuse, display.Specular = 1.0, 0.0, 0.0
-Render(view)  # paraview.simple resets the camera on the first render
-view.CameraPosition = list(C)
-view.CameraFocalPoint = list(C + R[2])
-view.CameraViewUp = list(-R[1])  # OpenCV's y points down
-view.CameraViewAngle = 2.0 * math.degrees(math.atan(0.5 / fy))
-view.CameraParallelProjection = 0
-Render(view)
 png = os.path.join(args.workdir, "build_mli.png")
-SaveScreenshot(png, view, ImageResolution=[W, H])
-reader = vtkPNGReader()
-reader.SetFileName(png)
-reader.Update()
-shot = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).reshape(H, W, -1)[:, :, :3]
+shot = screenshot_from_camera(build, E, fy, W, H, png)
 covered = float((shot.astype(int).max(axis=-1) > 8).mean())
 if covered < 0.5:
     fail(f"screenshot {png}: only {100 * covered:.1f} % of the pixels differ from the background")

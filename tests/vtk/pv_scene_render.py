@@ -12,7 +12,6 @@ position / focal point / view up, MapScalars off) in render views, saves screens
 checks their pixels against the photo. Renders, so it needs an X server (xvfb-run).
 """
 import argparse
-import math
 import os
 import shutil
 import sys
@@ -27,13 +26,12 @@ args = parser.parse_args()
 
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from pv_support import fail, hold_x_display  # noqa: E402
+from pv_support import fail, hold_x_display, read_png_rgb, screenshot_from_camera  # noqa: E402
 
 x_connection = hold_x_display()
 
 import numpy as np  # noqa: E402
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
-from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
 
 from simpli import vtkMLIWriter  # noqa: E402
 
@@ -150,30 +148,8 @@ if frame.GetFieldData().GetArray("FrameIndex").GetValue(0) != 3:
 print("trajectory OK: 8 time steps, time 3 -> frame 3")
 
 # --- OpenGL render of the MLI from view 0's camera, MapScalars off ----------------------------------
-R, t = E[:, :3], E[:, 3]
-C = -R.T @ t
-view = CreateRenderView()
-view.ViewSize = [W, H]
-view.OrientationAxesVisibility = 0
-view.UseColorPaletteForBackground = 0
-view.Background = [0.0, 0.0, 0.0]
-display = Show(mli, view)
-ColorBy(display, ("POINTS", "RGBA"))
-display.MapScalars = 0
-display.Ambient, display.Diffuse, display.Specular = 1.0, 0.0, 0.0
-Render(view)  # paraview.simple resets the camera on the first render
-view.CameraPosition = list(C)
-view.CameraFocalPoint = list(C + R[2])
-view.CameraViewUp = list(-R[1])  # OpenCV's y points down
-view.CameraViewAngle = 2.0 * math.degrees(math.atan(0.5 / fy))  # vertical; cx = cy = 0.5 here
-view.CameraParallelProjection = 0
-Render(view)
 png = os.path.join(args.workdir, "view0.png")
-SaveScreenshot(png, view, ImageResolution=[W, H])
-reader = vtkPNGReader()
-reader.SetFileName(png)
-reader.Update()
-shot = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).reshape(H, W, -1)[::-1, :, :3]
+shot = screenshot_from_camera(mli, E, fy, W, H, png)[::-1]
 p_gl = scene_mli.psnr(scene_mli.crop(shot), scene_mli.crop(truth))
 # Pixel check: nearly every pixel of the central crop matches the photo (OpenGL samples the
 # same vertices; only pixels at depth edges, where the 8-bit RGBA and the rasterisation rules
@@ -208,10 +184,7 @@ image_view.CameraParallelScale = H / 2.0
 Render(image_view)
 png_image = os.path.join(args.workdir, "render_view_image.png")
 SaveScreenshot(png_image, image_view, ImageResolution=[W, H])
-reader.SetFileName(png_image)
-reader.Modified()
-reader.Update()
-shown = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).reshape(H, W, -1)[::-1, :, :3]
+shown = read_png_rgb(png_image, W, H)[::-1]
 p_img = scene_mli.psnr(scene_mli.crop(shown), scene_mli.crop(truth))
 if p_img < 35.0:
     fail(f"the render view's image shown in ParaView ({png_image}): PSNR {p_img:.2f} dB")

@@ -32,3 +32,47 @@ def hold_x_display(timeout=30.0):
         if time.monotonic() > deadline:
             fail(f"cannot connect to the X server DISPLAY={os.environ['DISPLAY']}")
         time.sleep(0.05)
+
+
+def screenshot_from_camera(source, extrinsic, fy, width, height, png):
+    """Shows `source`'s point RGBA directly (MapScalars off, unlit) in a new render view whose
+    camera is the OpenCV camera [R | t] = `extrinsic` with relative focal length `fy` (principal
+    point at the centre), saves a width x height screenshot to `png` and returns its RGB pixels
+    as a height x width x 3 array in VTK's row order (bottom row first)."""
+    import math
+
+    from paraview.simple import ColorBy, CreateRenderView, Render, SaveScreenshot, Show
+
+    R, t = extrinsic[:, :3], extrinsic[:, 3]
+    centre = -R.T @ t
+    view = CreateRenderView()
+    view.ViewSize = [width, height]
+    view.OrientationAxesVisibility = 0
+    view.UseColorPaletteForBackground = 0
+    view.Background = [0.0, 0.0, 0.0]
+    display = Show(source, view)
+    ColorBy(display, ("POINTS", "RGBA"))
+    display.MapScalars = 0
+    display.Ambient, display.Diffuse, display.Specular = 1.0, 0.0, 0.0
+    Render(view)  # paraview.simple resets the camera on the first render
+    view.CameraPosition = list(centre)
+    view.CameraFocalPoint = list(centre + R[2])
+    view.CameraViewUp = list(-R[1])  # OpenCV's y points down
+    view.CameraViewAngle = 2.0 * math.degrees(math.atan(0.5 / fy))  # vertical
+    view.CameraParallelProjection = 0
+    Render(view)
+    SaveScreenshot(png, view, ImageResolution=[width, height])
+    return read_png_rgb(png, width, height)
+
+
+def read_png_rgb(png, width, height):
+    """The RGB pixels of a width x height PNG as a height x width x 3 array in VTK's row order
+    (bottom row first)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    reader = vtkPNGReader()
+    reader.SetFileName(png)
+    reader.Update()
+    pixels = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())
+    return pixels.reshape(height, width, -1)[:, :, :3]
