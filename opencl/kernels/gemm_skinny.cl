@@ -32,18 +32,10 @@
 #define SKINNY_B(b, ldb, p, j) (b)[(p) * (ldb) + (j)]
 #endif
 
-// Few rows (m == SKINNY): one item per column j of C.
-__kernel void gemm_skinny_m(const int m, const int n, const int k, const REAL alpha,
-                            __global const REAL* a, const int a_off, const int lda, const int ta,
-                            const int stride_a, __global const REAL* b, const int b_off,
-                            const int ldb, const int tb, const int stride_b, const REAL beta,
-                            __global REAL* c, const int c_off, const int ldc,
-                            const int stride_c) {
-  const int j = get_global_id(0), batch = get_global_id(1);
-  if (j >= n) return;
-  __global const REAL* ab = a + a_off + batch * stride_a;
-  __global const REAL* bb = b + b_off + batch * stride_b;
-  __global REAL* cb = c + c_off + batch * stride_c;
+// Column j of C (SKINNY rows), accumulated in registers along k.
+inline void skinny_column(const int j, const int k, const REAL alpha, __global const REAL* ab,
+                          const int lda, __global const REAL* bb, const int ldb, const REAL beta,
+                          __global REAL* cb, const int ldc) {
   REAL acc[SKINNY];
   for (int i = 0; i < SKINNY; ++i)
     acc[i] = 0;
@@ -57,6 +49,21 @@ __kernel void gemm_skinny_m(const int m, const int n, const int k, const REAL al
     __global REAL* ci = cb + i * ldc + j;
     *ci = beta != 0 ? alpha * acc[i] + beta * *ci : alpha * acc[i];
   }
+}
+
+// Few rows (m == SKINNY): one item per column j of C.
+__kernel void gemm_skinny_m(const int m, const int n, const int k, const REAL alpha,
+                            __global const REAL* a, const int a_off, const int lda, const int ta,
+                            const int stride_a, __global const REAL* b, const int b_off,
+                            const int ldb, const int tb, const int stride_b, const REAL beta,
+                            __global REAL* c, const int c_off, const int ldc,
+                            const int stride_c) {
+  const int j = get_global_id(0), batch = get_global_id(1);
+  if (j >= n) return;
+  __global const REAL* ab = a + a_off + batch * stride_a;
+  __global const REAL* bb = b + b_off + batch * stride_b;
+  __global REAL* cb = c + c_off + batch * stride_c;
+  skinny_column(j, k, alpha, ab, lda, bb, ldb, beta, cb, ldc);
 }
 
 // Few columns (n == SKINNY): one item per row i of C.
@@ -101,20 +108,8 @@ __kernel void gemm_skinny_m8(const int m, const int n, const int k, const REAL a
   __global const REAL* bb = b + b_off + batch * stride_b;
   __global REAL* cb = c + c_off + batch * stride_c;
   if (j0 + 8 > n) { // tail: scalar
-    for (int j = j0; j < n; ++j) {
-      REAL acc[SKINNY];
-      for (int i = 0; i < SKINNY; ++i)
-        acc[i] = 0;
-      for (int p = 0; p < k; ++p) {
-        const REAL bv = bb[p * ldb + j];
-        for (int i = 0; i < SKINNY; ++i)
-          acc[i] += SKINNY_A(ab, lda, i, p) * bv;
-      }
-      for (int i = 0; i < SKINNY; ++i) {
-        __global REAL* ci = cb + i * ldc + j;
-        *ci = beta != 0 ? alpha * acc[i] + beta * *ci : alpha * acc[i];
-      }
-    }
+    for (int j = j0; j < n; ++j)
+      skinny_column(j, k, alpha, ab, lda, bb, ldb, beta, cb, ldc);
     return;
   }
 #if REAL_IS_DOUBLE
