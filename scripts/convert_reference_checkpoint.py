@@ -27,6 +27,11 @@ import sys
 # Entries under which training scripts commonly store the generator's state dict.
 CANDIDATE_KEYS = ("state_dict", "model", "gen", "generator", "model_state_dict", "net")
 ANCHOR_KEY = "planes_deformer_lvl1.anchor"
+checkpoint_path = "checkpoint"  # named in every error message
+
+
+def error(message):
+    sys.exit(f"error: {checkpoint_path}: {message}")
 
 
 def find_state_dict(checkpoint, key):
@@ -38,10 +43,10 @@ def find_state_dict(checkpoint, key):
 
     if key is not None:
         if not isinstance(checkpoint, dict) or key not in checkpoint:
-            sys.exit(f"error: the checkpoint has no entry '{key}'")
+            error(f"the checkpoint has no entry '{key}'")
         checkpoint = checkpoint[key]
         if not is_state_dict(checkpoint):
-            sys.exit(f"error: entry '{key}' is not a state dict of tensors")
+            error(f"entry '{key}' is not a state dict of tensors")
         return checkpoint
     if is_state_dict(checkpoint):
         return checkpoint
@@ -49,9 +54,9 @@ def find_state_dict(checkpoint, key):
         for k in CANDIDATE_KEYS:
             if is_state_dict(checkpoint.get(k)):
                 return checkpoint[k]
-        sys.exit("error: no state dict found; top-level entries: "
+        error("no state dict found; top-level entries: "
                  + ", ".join(map(str, checkpoint.keys())) + " (choose one with --key)")
-    sys.exit(f"error: the checkpoint is a {type(checkpoint).__name__}, not a dict")
+    error(f"the checkpoint is a {type(checkpoint).__name__}, not a dict")
 
 
 def strip_module_prefix(state):
@@ -59,7 +64,7 @@ def strip_module_prefix(state):
     for name, tensor in state.items():
         plain = name[len("module."):] if name.startswith("module.") else name
         if plain in out:
-            sys.exit(f"error: key '{plain}' appears both with and without the 'module.' prefix")
+            error(f"key '{plain}' appears both with and without the 'module.' prefix")
         out[plain] = tensor
     return out
 
@@ -96,18 +101,23 @@ def main():
 
     import torch
 
-    checkpoint = torch.load(args.checkpoint, map_location="cpu")
+    global checkpoint_path
+    checkpoint_path = args.checkpoint
+    try:
+        checkpoint = torch.load(args.checkpoint, map_location="cpu")
+    except Exception as e:  # missing, truncated, not a torch file: all reported the same way
+        error(f"cannot read the checkpoint: {e}")
     state = strip_module_prefix(find_state_dict(checkpoint, args.key))
     if ANCHOR_KEY not in state:
-        sys.exit(f"error: '{ANCHOR_KEY}' is missing: not a SIMPLI generator state dict")
+        error(f"'{ANCHOR_KEY}' is missing: not a SIMPLI generator state dict")
     config = args.config or "official-%dl" % state[ANCHOR_KEY].shape[0]
     if config not in ("official-4l", "official-8l"):
-        sys.exit(f"error: {state[ANCHOR_KEY].shape[0]} anchors: expected 4 or 8 layers")
+        error(f"{state[ANCHOR_KEY].shape[0]} anchors: expected 4 or 8 layers")
 
     tensors = {}
     for name, t in state.items():
         if not t.is_floating_point():
-            sys.exit(f"error: tensor '{name}' has dtype {t.dtype}, expected floating point")
+            error(f"tensor '{name}' has dtype {t.dtype}, expected floating point")
         t = t.detach().to(torch.float32).contiguous()
         tensors[name] = (list(t.shape), t.flatten().tolist())
     count = sum(len(v) for _, v in tensors.values())

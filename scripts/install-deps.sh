@@ -17,8 +17,8 @@ packages=(
   libclblast-dev clblast-utils
   # libraries
   libopencv-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libopenblas-dev
-  # tests
-  libgtest-dev
+  # tests (PyTorch only for the test of scripts/convert_reference_checkpoint.py)
+  libgtest-dev python3-torch
 )
 
 missing=()
