@@ -64,6 +64,17 @@ public:
       b = (*v)[1].get<double>();
     }
   }
+  void numbers(const std::string& key, std::vector<double>& out) {
+    if (const json* v = find(key)) {
+      bool ok = v->is_array() && !v->empty();
+      for (size_t i = 0; ok && i < v->size(); ++i)
+        ok = (*v)[i].is_number() && std::isfinite((*v)[i].get<double>());
+      if (!ok)
+        fail(source_, ": ", where(key), " is ", excerpt(*v),
+             ", expected a non-empty list of finite numbers");
+      out = v->get<std::vector<double>>();
+    }
+  }
   void finish() const {
     for (auto it = object_.begin(); it != object_.end(); ++it)
       if (!used_.count(it.key()))
@@ -173,6 +184,9 @@ void TrainingConfig::validate(const std::string& source) const {
   if (s.cropHeight % 16 != 0 || s.cropWidth % 16 != 0)
     fail(source, ": field \"sampling.crop\" = [", s.cropHeight, ", ", s.cropWidth,
          "]: the network needs multiples of 16");
+  for (double z : s.zoomScales)
+    if (!(z >= 1 && z <= 4))
+      bad("sampling.zoom", z, "every factor must be in [1, 4]");
   if (!(s.mixupProbability >= 0 && s.mixupProbability <= 1))
     bad("sampling.mixup_probability", s.mixupProbability, "must be in [0, 1]");
   if (!(s.mixupLambdaMin >= 0 && s.mixupLambdaMin <= s.mixupLambdaMax && s.mixupLambdaMax <= 1))
@@ -240,6 +254,7 @@ TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::strin
       fail(source, ": field \"sampling.crop\" = [", ch, ", ", cw, "]: expected integers");
     sc.cropHeight = int(ch);
     sc.cropWidth = int(cw);
+    f.numbers("zoom", sc.zoomScales);
     f.number("mixup_probability", sc.mixupProbability);
     f.pair("mixup_lambda", sc.mixupLambdaMin, sc.mixupLambdaMax);
     f.finish();
@@ -277,6 +292,7 @@ std::string toJson(const TrainingConfig& c) {
                       {"novel_views", s.novelViews},
                       {"window", s.window},
                       {"crop", {s.cropHeight, s.cropWidth}},
+                      {"zoom", s.zoomScales},
                       {"mixup_probability", s.mixupProbability},
                       {"mixup_lambda", {s.mixupLambdaMin, s.mixupLambdaMax}}};
   return root.dump(2) + "\n";

@@ -5,6 +5,7 @@
 #include "simpli/model/reference_camera.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace simpli::train {
@@ -60,6 +61,39 @@ Image cropImage(const Image& image, int x, int y, int width, int height) {
   return out;
 }
 
+namespace {
+
+// The resized size and the centre crop's origin of a zoom by `factor`.
+struct ZoomWindow {
+  int width, height, x, y;
+};
+
+ZoomWindow zoomWindow(int width, int height, double factor) {
+  if (!(factor >= 1))
+    fail("zoom: factor ", factor, " must be >= 1");
+  ZoomWindow z;
+  z.width = std::max(width, int(std::lround(width * factor)));
+  z.height = std::max(height, int(std::lround(height * factor)));
+  z.x = (z.width - width) / 2;
+  z.y = (z.height - height) / 2;
+  return z;
+}
+
+} // namespace
+
+Camera zoomCamera(const Camera& camera, double factor) {
+  const ZoomWindow z = zoomWindow(camera.width, camera.height, factor);
+  Camera resized = camera; // relative intrinsics are unchanged by a resize
+  resized.width = z.width;
+  resized.height = z.height;
+  return cropCamera(resized, z.x, z.y, camera.width, camera.height);
+}
+
+Image zoomImage(const Image& image, double factor) {
+  const ZoomWindow z = zoomWindow(image.width, image.height, factor);
+  return cropImage(resizeImage(image, z.width, z.height), z.x, z.y, image.width, image.height);
+}
+
 Sampler::Sampler(const SamplingConfig& config, uint64_t seed) : config_(config), random_(seed) {}
 
 TrainingSample Sampler::draw(TrainingData& data) {
@@ -77,6 +111,11 @@ TrainingSample Sampler::drawFromScene(const Scene& scene, uint64_t sceneIndex) {
   s.sourceFrames = d.sources;
   s.targetFrames = d.targets;
   const int W = scene.width(), H = scene.height();
+  const std::vector<double>& zooms = config_.zoomScales;
+  if (zooms.size() > 1) // a single factor draws nothing (keeps older runs' random stream)
+    s.zoom = zooms[size_t(random_.uniformInt(0, int64_t(zooms.size()) - 1))];
+  else if (!zooms.empty())
+    s.zoom = zooms[0];
   int cw = W, ch = H;
   if (config_.cropHeight > 0) {
     if (config_.cropHeight > H || config_.cropWidth > W)
@@ -91,9 +130,11 @@ TrainingSample Sampler::drawFromScene(const Scene& scene, uint64_t sceneIndex) {
     const SceneView& v = scene.views.at(size_t(frame));
     if (v.image.empty())
       fail("sampler: scene ", scene.root, " view ", v.name, " has no image loaded");
-    const bool crop = cw != W || ch != H;
-    images.push_back(crop ? cropImage(v.image, s.cropX, s.cropY, cw, ch) : v.image);
-    cameras.push_back(crop ? cropCamera(v.camera, s.cropX, s.cropY, cw, ch) : v.camera);
+    const bool zoom = s.zoom != 1.0, crop = cw != W || ch != H;
+    Image image = zoom ? zoomImage(v.image, s.zoom) : v.image;
+    Camera camera = zoom ? zoomCamera(v.camera, s.zoom) : v.camera;
+    images.push_back(crop ? cropImage(image, s.cropX, s.cropY, cw, ch) : std::move(image));
+    cameras.push_back(crop ? cropCamera(camera, s.cropX, s.cropY, cw, ch) : camera);
   };
   for (int f : s.sourceFrames)
     take(f, s.cleanSources, s.sourceCameras);

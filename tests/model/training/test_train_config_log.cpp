@@ -47,11 +47,13 @@ TEST(TrainConfig, RoundTripAndNetworkFile) {
   const TrainingConfig c = parseTrainingConfig(
       R"({"network": "tiny.json", "dtype": "f64", "seed": 5, "steps": 7,
           "optimizer": {"lr": 1e-3}, "loss_weights": {"perceptual": 10},
-          "sampling": {"crop": [32, 48], "mixup_lambda": [0.1, 0.2], "window": 6}})",
+          "sampling": {"crop": [32, 48], "mixup_lambda": [0.1, 0.2], "window": 6,
+                       "zoom": [1.0, 1.3]}})",
       "t.json", SIMPLI_NETWORK_CONFIG_DIR);
   EXPECT_EQ(c.network.name, "tiny");
   EXPECT_EQ(c.dtype, ocl::Dtype::F64);
   EXPECT_EQ(c.sampling.cropWidth, 48);
+  EXPECT_EQ(c.sampling.zoomScales, (std::vector<double>{1.0, 1.3}));
   const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
   EXPECT_EQ(toJson(back), toJson(c));
   EXPECT_EQ(firstIncompatibleField(c, back), "");
@@ -86,6 +88,18 @@ TEST(TrainConfig, BadInputNamesFieldAndValue) {
                             "a.json", "");
       },
       {"sampling.crop", "multiples of 16"});
+  expectError(
+      [] {
+        parseTrainingConfig(R"({"network": "official-4l", "sampling": {"zoom": [1.2, 0.8]}})",
+                            "a.json", "");
+      },
+      {"a.json", "sampling.zoom", "0.8", "[1, 4]"});
+  expectError(
+      [] {
+        parseTrainingConfig(R"({"network": "official-4l", "sampling": {"zoom": []}})", "a.json",
+                            "");
+      },
+      {"sampling.zoom", "non-empty list"});
   expectError([] { parseTrainingConfig(R"({"network": "nope.json"})", "a.json", "/tmp"); },
               {"a.json", "nope.json", "does not exist"});
   expectError(

@@ -183,5 +183,82 @@ TEST(TrainSampler, CropPixelsAndReferenceCameraAndMixup) {
   test::expectError([&] { s2.drawFromScene(scene, 0); }, {"crop 64x16", "larger", "32x48"});
 }
 
+// A zoom is a resize and a centre crop: the zoomed camera must see, at each pixel, the point of
+// the original image its ray goes through. Ramp images (channel 0 = relative x, channel 1 =
+// relative y of the pixel centre) make that exact: bilinear interpolation reproduces a ramp.
+TEST(TrainSampler, ZoomImageMatchesZoomCameraAnalytic) {
+  Camera cam;
+  cam.width = 64;
+  cam.height = 48;
+  cam.fx = 0.9;
+  cam.fy = 1.3;
+  cam.cx = 0.46;
+  cam.cy = 0.55;
+  Image ramp(cam.width, cam.height);
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      ramp.at(0, y, x) = float((x + 0.5) / cam.width);
+      ramp.at(1, y, x) = float((y + 0.5) / cam.height);
+      ramp.at(2, y, x) = -0.25f;
+    }
+  for (double factor : {1.0, 1.2, 1.3, 1.6, 2.5}) {
+    const Camera z = zoomCamera(cam, factor);
+    const Image zoomed = zoomImage(ramp, factor);
+    ASSERT_EQ(z.width, cam.width);
+    ASSERT_EQ(z.height, cam.height);
+    ASSERT_EQ(zoomed.width, cam.width);
+    ASSERT_EQ(zoomed.height, cam.height);
+    EXPECT_NEAR(z.fx / cam.fx, factor, 0.5 / cam.width * factor + 1e-12);
+    double worst = 0;
+    for (int y = 0; y < cam.height; ++y)
+      for (int x = 0; x < cam.width; ++x) {
+        // The ray through this pixel's centre, then where the original camera sees it.
+        const double nx = ((x + 0.5) / z.width - z.cx) / z.fx;
+        const double ny = ((y + 0.5) / z.height - z.cy) / z.fy;
+        const double u = nx * cam.fx + cam.cx, v = ny * cam.fy + cam.cy;
+        worst = std::max({worst, std::abs(zoomed.at(0, y, x) - u),
+                          std::abs(zoomed.at(1, y, x) - v),
+                          std::abs(zoomed.at(2, y, x) + 0.25)});
+      }
+    EXPECT_LT(worst, 2e-6) << "factor " << factor;
+  }
+  test::expectError([&] { zoomCamera(cam, 0.5); }, {"zoom", "0.5", ">= 1"});
+}
+
+TEST(TrainSampler, ZoomIsDrawnPerSampleAndAppliedBeforeTheCrop) {
+  SamplingConfig c;
+  c.cropHeight = 16;
+  c.cropWidth = 16;
+  c.mixupProbability = 0;
+  c.zoomScales = {1.0, 1.25, 1.5};
+  const Scene scene = fakeScene(6, 48, 32);
+  Sampler s(c, 11);
+  std::set<double> seen;
+  for (int it = 0; it < 30; ++it) {
+    const TrainingSample t = s.drawFromScene(scene, 0);
+    seen.insert(t.zoom);
+    const int f = t.sourceFrames[0];
+    const SceneView& view = scene.views[size_t(f)];
+    const Image expect = cropImage(zoomImage(view.image, t.zoom), t.cropX, t.cropY, 16, 16);
+    EXPECT_EQ(t.cleanSources[0].data, expect.data);
+    const Camera cam = cropCamera(zoomCamera(view.camera, t.zoom), t.cropX, t.cropY, 16, 16);
+    EXPECT_DOUBLE_EQ(t.sourceCameras[0].fx, cam.fx);
+    EXPECT_DOUBLE_EQ(t.sourceCameras[0].cx, cam.cx);
+  }
+  EXPECT_EQ(seen, (std::set<double>{1.0, 1.25, 1.5}));
+  // One factor: no draw, so the random stream (frames, crops) is that of a zoom-free run.
+  SamplingConfig plain = c, fixed = c;
+  plain.zoomScales = {1.0};
+  fixed.zoomScales = {1.5};
+  Sampler a(plain, 4), b(fixed, 4);
+  for (int it = 0; it < 5; ++it) {
+    const TrainingSample ta = a.drawFromScene(scene, 0), tb = b.drawFromScene(scene, 0);
+    EXPECT_EQ(ta.sourceFrames, tb.sourceFrames);
+    EXPECT_EQ(ta.cropX, tb.cropX);
+    EXPECT_EQ(ta.zoom, 1.0);
+    EXPECT_EQ(tb.zoom, 1.5);
+  }
+}
+
 } // namespace
 } // namespace simpli::train

@@ -23,6 +23,7 @@
 //                    "intermediate_loss_3_l1": 1, "smooth_layers": 0.01},
 //   "sampling": {"min_views": 2, "max_views": 8, "novel_views": 4, "window": 0,
 //                "crop": [0, 0],            // [height, width]; 0 = the whole image
+//                "zoom": [1.0],             // zoom factors >= 1, one drawn per sample
 //                "mixup_probability": 0.9, "mixup_lambda": [0.0, 0.4]}
 // }
 #include "simpli/model/network/config.h"
@@ -51,6 +52,10 @@ struct SamplingConfig {
   /// V + N and clipped to the scene; 0 = the whole scene.
   int window = 0;
   int cropHeight = 0, cropWidth = 0; ///< random crop (same window for every view); 0 = none
+  /// Zoom factors, one drawn uniformly per sample (for every view): the images are resized by
+  /// it and centre-cropped back to their size before the random crop (the reference's random
+  /// resize, §8.3: {1.0, 1.2, ..., 1.6}). {1.0} = no zoom and no random draw.
+  std::vector<double> zoomScales{1.0};
   double mixupProbability = 0.9;     ///< per source image
   double mixupLambdaMin = 0.0, mixupLambdaMax = 0.4;
 };

@@ -4,8 +4,9 @@
 // min(novel_views, frames - V) targets, a window of consecutive frames (sampling.window frames,
 // widened to V + N, clipped to the scene; 0 = whole scene) at a random start, then V + N
 // distinct frames of it in random order: the first V are the sources, the rest the targets.
-// The reference camera is referenceCamera(sources). Optionally one random crop window (the
-// same for every view) with the intrinsics updated, and source-only MixUp: with probability
+// The reference camera is referenceCamera(sources). Optionally a zoom factor drawn from
+// sampling.zoom (images resized by it and centre-cropped back, §8.3's random resize), then one
+// random crop window (the same for every view), intrinsics updated for both; and source-only MixUp: with probability
 // p a source image becomes (1 - lambda) * itself + lambda * another source of the sample,
 // lambda ~ U[low, high]; the clean sources are kept for the intermediate losses.
 //
@@ -31,7 +32,8 @@ struct TrainingSample {
   std::vector<Image> targets;
   std::vector<Camera> sourceCameras, targetCameras;
   Camera reference;
-  int cropX = 0, cropY = 0;        ///< crop window origin in the scene's pixels
+  double zoom = 1.0;               ///< zoom factor applied before the crop
+  int cropX = 0, cropY = 0;        ///< crop window origin in the (zoomed) scene's pixels
   std::vector<int> mixupPartner;   ///< per source: the blended source index, -1 = none
   std::vector<double> mixupLambda; ///< per source: lambda (0 when not blended)
 };
@@ -51,6 +53,12 @@ FrameDraw drawFrames(int frames, const SamplingConfig& config, TrainRandom& rand
 Camera cropCamera(const Camera& camera, int x, int y, int width, int height);
 /// The pixels of that window (must lie inside the image).
 Image cropImage(const Image& image, int x, int y, int width, int height);
+
+/// The camera of `camera`'s image resized by `factor` (>= 1; relative intrinsics unchanged, size
+/// rounded) and centre-cropped back to width x height: a zoom about the image centre.
+Camera zoomCamera(const Camera& camera, double factor);
+/// The pixels of that zoom (bilinear resize, then the centre crop zoomCamera describes).
+Image zoomImage(const Image& image, double factor);
 
 class Sampler {
 public:
