@@ -216,8 +216,7 @@ TEST(TrainSampler, ZoomImageMatchesZoomCameraAnalytic) {
         const double nx = ((x + 0.5) / z.width - z.cx) / z.fx;
         const double ny = ((y + 0.5) / z.height - z.cy) / z.fy;
         const double u = nx * cam.fx + cam.cx, v = ny * cam.fy + cam.cy;
-        worst = std::max({worst, std::abs(zoomed.at(0, y, x) - u),
-                          std::abs(zoomed.at(1, y, x) - v),
+        worst = std::max({worst, std::abs(zoomed.at(0, y, x) - u), std::abs(zoomed.at(1, y, x) - v),
                           std::abs(zoomed.at(2, y, x) + 0.25)});
       }
     EXPECT_LT(worst, 2e-6) << "factor " << factor;

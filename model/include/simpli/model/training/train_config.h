@@ -56,7 +56,7 @@ struct SamplingConfig {
   /// it and centre-cropped back to their size before the random crop (the reference's random
   /// resize, §8.3: {1.0, 1.2, ..., 1.6}). {1.0} = no zoom and no random draw.
   std::vector<double> zoomScales{1.0};
-  double mixupProbability = 0.9;     ///< per source image
+  double mixupProbability = 0.9; ///< per source image
   double mixupLambdaMin = 0.0, mixupLambdaMax = 0.4;
 };
 

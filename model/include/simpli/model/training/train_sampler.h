@@ -6,9 +6,9 @@
 // distinct frames of it in random order: the first V are the sources, the rest the targets.
 // The reference camera is referenceCamera(sources). Optionally a zoom factor drawn from
 // sampling.zoom (images resized by it and centre-cropped back, §8.3's random resize), then one
-// random crop window (the same for every view), intrinsics updated for both; and source-only MixUp: with probability
-// p a source image becomes (1 - lambda) * itself + lambda * another source of the sample,
-// lambda ~ U[low, high]; the clean sources are kept for the intermediate losses.
+// random crop window (the same for every view), intrinsics updated for both; and source-only MixUp:
+// with probability p a source image becomes (1 - lambda) * itself + lambda * another source of the
+// sample, lambda ~ U[low, high]; the clean sources are kept for the intermediate losses.
 //
 // Everything random comes from one TrainRandom whose state goes into checkpoints, so a
 // resumed run draws the same samples as an uninterrupted one.
