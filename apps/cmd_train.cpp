@@ -104,9 +104,12 @@ int runTrain(const TrainCliOptions& o) {
   const train::Trainer::RunResult result = trainer.run();
   bar->finish();
   const int sig = g_signal;
-  std::printf("%s at step %lld of %lld; run folder %s (weights %s/weights.safetensors)\n",
+  const std::string averaged =
+      trainer.average() ? ", moving average " + o.out + "/weights_ema.safetensors" : "";
+  std::printf("%s at step %lld of %lld; run folder %s (weights %s/weights.safetensors%s)\n",
               result.interrupted ? "stopped" : "finished", static_cast<long long>(result.steps),
-              static_cast<long long>(trainer.totalSteps()), o.out.c_str(), o.out.c_str());
+              static_cast<long long>(trainer.totalSteps()), o.out.c_str(), o.out.c_str(),
+              averaged.c_str());
   std::fflush(stdout);
   if (result.interrupted && sig != 0) {
     std::fprintf(stderr, "simpli train: %s received; checkpoint written, resume with --resume\n",

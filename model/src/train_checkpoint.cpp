@@ -105,6 +105,15 @@ std::string writeCheckpoint(const std::string& runDir, const net::ParameterStore
   writeSafeTensors(optim, moments, {{"format", "simpli-adam"}});
   counter.wrote(optim);
 
+  std::map<std::string, SafeTensorEntry> average;
+  for (const auto& [name, values] : data.average)
+    average[name] = makeEntry(values);
+  const std::string averagePath = (tmp / "weights_ema.safetensors").string();
+  if (!average.empty()) {
+    writeSafeTensors(averagePath, average, meta);
+    counter.wrote(averagePath);
+  }
+
   json state;
   state["format"] = kFormat;
   state["version"] = kVersion;
@@ -138,6 +147,8 @@ std::string writeCheckpoint(const std::string& runDir, const net::ParameterStore
 
   // The run's current weights, for `simpli infer --weights RUN/weights.safetensors`.
   store.save((fs::path(runDir) / "weights.safetensors").string(), meta);
+  if (!average.empty())
+    writeSafeTensors((fs::path(runDir) / "weights_ema.safetensors").string(), average, meta);
 
   // Clean up: temporaries of failed writes and checkpoints beyond `keep`.
   std::vector<std::pair<int64_t, fs::path>> complete;
@@ -232,6 +243,13 @@ CheckpointData readCheckpoint(const std::string& dir, net::ParameterStore& store
       (which[0] == 'm' ? p.m : p.v) = std::move(t.data);
     }
     data.adam.params.push_back(std::move(p));
+  }
+
+  const fs::path averagePath = root / "weights_ema.safetensors";
+  if (fs::exists(averagePath)) {
+    const SafeTensorsReader average(averagePath.string());
+    for (const std::string& key : average.keys())
+      data.average[key] = average.readF64(key);
   }
   return data;
 }

@@ -148,6 +148,8 @@ void TrainingConfig::validate(const std::string& source) const {
     bad("steps", steps, "must be >= 0");
   if (checkpointEvery < 1)
     bad("checkpoint_every", checkpointEvery, "must be >= 1");
+  if (!(emaDecay >= 0 && emaDecay < 1))
+    bad("ema_decay", emaDecay, "must be in [0, 1) (0 = no average)");
   if (corrections < -1 || corrections > network.mliCorrections())
     fail(source, ": field \"corrections\" = ", corrections, ": must be -1 .. ",
          network.mliCorrections(), " (the network's correction steps)");
@@ -225,6 +227,7 @@ TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::strin
   top.integer("checkpoint_every", c.checkpointEvery);
   top.integer("corrections", c.corrections);
   top.integer("max_fragments", c.maxFragments);
+  top.number("ema_decay", c.emaDecay);
   if (const json* o = top.find("optimizer")) {
     Fields f(*o, source, "optimizer");
     f.number("lr", c.optimizer.lr);
@@ -279,6 +282,7 @@ std::string toJson(const TrainingConfig& c) {
   root["checkpoint_every"] = c.checkpointEvery;
   root["corrections"] = c.corrections;
   root["max_fragments"] = c.maxFragments;
+  root["ema_decay"] = c.emaDecay;
   root["optimizer"] = {{"lr", c.optimizer.lr},       {"beta1", c.optimizer.beta1},
                        {"beta2", c.optimizer.beta2}, {"eps", c.optimizer.eps},
                        {"gamma", c.optimizer.gamma}, {"clip_grad_norm", c.optimizer.clipGradNorm}};

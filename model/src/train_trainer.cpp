@@ -106,6 +106,8 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
                                       o.eps);
   schedule_ = std::make_unique<ocl::ExponentialLr>(o.lr, o.gamma);
   sampler_ = std::make_unique<Sampler>(config_.sampling, samplerSeed(config_.seed));
+  if (config_.emaDecay > 0)
+    average_ = std::make_unique<ParameterAverage>(network_->parameters(), config_.emaDecay);
 
   if (!options_.resume) {
     std::error_code ec;
@@ -119,6 +121,12 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
     CheckpointData c = readCheckpoint(*checkpoint, network_->parameters());
     adam_->importState(c.adam);
     sampler_->random().setState(c.random);
+    if (average_) {
+      if (c.average.empty())
+        fail(*checkpoint, ": no weights_ema.safetensors, but the run's ema_decay is ",
+             config_.emaDecay);
+      average_->setValues(c.average, *checkpoint + "/weights_ema.safetensors");
+    }
     step_ = c.step;
     say("resumed from " + *checkpoint + " at step " + std::to_string(step_));
   } else if (options_.resume) {
@@ -189,6 +197,8 @@ StepReport Trainer::trainStep() {
       options_.message("step " + std::to_string(step_ + 1) +
                        ": non-finite loss or gradient; no update made");
   }
+  if (average_)
+    average_->update(network_->parameters());
   ++step_;
   for (const std::string& t : lossTermNames())
     report.terms.emplace_back(t, losses.value(t));
@@ -211,6 +221,8 @@ std::string Trainer::saveCheckpoint() {
   c.random = sampler_->random().state();
   c.adam = adam_->exportState();
   c.configJson = toJson(config_);
+  if (average_)
+    c.average = average_->values();
   return writeCheckpoint(options_.runDir, network_->parameters(), c);
 }
 

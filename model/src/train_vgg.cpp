@@ -32,12 +32,6 @@ ocl::Tensor load(const SafeTensorsReader& r, const std::string& key, ocl::Dtype 
   return ocl::Tensor::fromHost(t.data, t.shape, dtype);
 }
 
-std::string shapeText(const std::vector<int64_t>& s) {
-  std::string out = "[";
-  for (size_t i = 0; i < s.size(); ++i)
-    out += (i ? ", " : "") + std::to_string(s[i]);
-  return out + "]";
-}
 } // namespace
 
 const std::array<int, 16>& Vgg19Features::convIndices() {
@@ -54,12 +48,13 @@ Vgg19Features::Vgg19Features(const std::string& path, ocl::Dtype dtype) : path_(
       fail(path, ": missing key '", wk, "' (VGG-19 features; torchvision key names expected)");
     const std::vector<int64_t> ws = r.info(wk).shape;
     if (ws.size() != 4 || ws[1] != in || ws[2] != 3 || ws[3] != 3 || ws[0] < 1)
-      fail(path, ": key '", wk, "' has shape ", shapeText(ws), "; expected [out, ", in, ", 3, 3]");
+      fail(path, ": key '", wk, "' has shape ", ocl::toString(ws), "; expected [out, ", in,
+           ", 3, 3]");
     if (!r.contains(bk))
       fail(path, ": missing key '", bk, "' (VGG-19 features; torchvision key names expected)");
     const std::vector<int64_t> bs = r.info(bk).shape;
     if (bs.size() != 1 || bs[0] != ws[0])
-      fail(path, ": key '", bk, "' has shape ", shapeText(bs), "; expected [", ws[0], "]");
+      fail(path, ": key '", bk, "' has shape ", ocl::toString(bs), "; expected [", ws[0], "]");
     weights_.push_back(load(r, wk, dtype));
     biases_.push_back(load(r, bk, dtype));
     in = ws[0];

@@ -100,6 +100,9 @@ TEST(TrainConfig, BadInputNamesFieldAndValue) {
                             "");
       },
       {"sampling.zoom", "non-empty list"});
+  expectError(
+      [] { parseTrainingConfig(R"({"network": "official-4l", "ema_decay": 1})", "a.json", ""); },
+      {"a.json", "ema_decay", "[0, 1)"});
   expectError([] { parseTrainingConfig(R"({"network": "nope.json"})", "a.json", "/tmp"); },
               {"a.json", "nope.json", "does not exist"});
   expectError(

@@ -79,6 +79,7 @@ TEST(TrainTrainer, ResumeRepeatsTheUninterruptedRun) {
   TrainingConfig cfg = tinyConfig(6, 3);
   cfg.sampling.maxViews = 2; // the smallest samples: this test runs PoCL on one thread
   cfg.sampling.novelViews = 1;
+  cfg.emaDecay = 0.6; // the moving average must resume too
   const fs::path a = tempRun("full"), b = tempRun("resumed");
   std::vector<double> full;
   {
@@ -135,10 +136,61 @@ TEST(TrainTrainer, ResumeRepeatsTheUninterruptedRun) {
   nb.parameters().load((b / "weights.safetensors").string());
   for (const std::string& n : na.parameters().names())
     EXPECT_EQ(na.parameters().get(n).toVector(), nb.parameters().get(n).toVector()) << n;
+  const SafeTensorsReader ea((a / "weights_ema.safetensors").string()),
+      eb((b / "weights_ema.safetensors").string());
+  ASSERT_EQ(ea.keys().size(), na.parameters().names().size());
+  for (const std::string& n : ea.keys())
+    EXPECT_EQ(ea.readF64(n).data, eb.readF64(n).data) << n;
   for (size_t i = 1; i < full.size(); ++i)
     EXPECT_TRUE(std::isfinite(full[i]));
   fs::remove_all(a);
   fs::remove_all(b);
+}
+
+// ema_decay d: after steps with weights w1, w2 the average is d^2 w0 + d (1 - d) w1 + (1 - d) w2,
+// in float64, written beside the weights and loadable as weights.
+TEST(TrainTrainer, MovingAverageOfTheWeights) {
+  TrainingConfig cfg = tinyConfig(2, 10);
+  cfg.sampling.maxViews = 2;
+  cfg.sampling.novelViews = 1;
+  cfg.emaDecay = 0.75;
+  const fs::path run = tempRun("ema");
+  TrainerOptions o = options(run);
+  std::vector<std::vector<std::vector<double>>> weights; // [snapshot][parameter][value]
+  Trainer* trainer = nullptr;
+  auto snapshot = [&] {
+    std::vector<std::vector<double>> w;
+    for (const std::string& n : trainer->network().parameters().names())
+      w.push_back(trainer->network().parameters().get(n).toVector());
+    weights.push_back(std::move(w));
+  };
+  o.onStep = [&](const StepReport&) { snapshot(); };
+  Trainer t(&cfg, o);
+  trainer = &t;
+  snapshot();
+  t.run();
+  ASSERT_EQ(weights.size(), 3u);
+  const double d = 0.75, c0 = d * d, c1 = d * (1 - d), c2 = 1 - d;
+  const SafeTensorsReader average((run / "weights_ema.safetensors").string());
+  const std::vector<std::string>& names = t.network().parameters().names();
+  ASSERT_EQ(average.keys().size(), names.size());
+  double worst = 0, moved = 0;
+  for (size_t p = 0; p < names.size(); ++p) {
+    const HostTensor<double> got = average.readF64(names[p]);
+    EXPECT_EQ(got.shape, t.network().parameters().get(names[p]).shape()) << names[p];
+    ASSERT_EQ(got.data.size(), weights[0][p].size());
+    for (size_t i = 0; i < got.data.size(); ++i) {
+      const double expect = c0 * weights[0][p][i] + c1 * weights[1][p][i] + c2 * weights[2][p][i];
+      worst = std::max(worst, std::abs(got.data[i] - expect));
+      moved = std::max(moved, std::abs(weights[2][p][i] - weights[0][p][i]));
+    }
+  }
+  EXPECT_GT(moved, 1e-5); // the weights did change, so the average means something
+  EXPECT_LT(worst, 1e-12);
+  // The averaged weights load like weights (config from their metadata).
+  net::SimpliNetwork n(cfg.network, cfg.dtype);
+  n.parameters().load((run / "weights_ema.safetensors").string());
+  fs::remove_all(run);
 }
 
 TEST(TrainTrainer, RunFolderRules) {

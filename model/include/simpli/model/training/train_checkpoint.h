@@ -4,9 +4,11 @@
 //   log.csv                     per-step log (train_log.h)
 //   weights.safetensors         the latest checkpoint's network parameters (reference key
 //                               names; what `simpli infer --weights` loads)
+//   weights_ema.safetensors     their moving average (with ema_decay > 0; also loadable)
 //   checkpoints/step_NNNNNNNN/  one folder per checkpoint:
 //       weights.safetensors     network parameters
 //       optimizer.safetensors   Adam moments "m.<param>" / "v.<param>" (F64, exact copies)
+//       weights_ema.safetensors the weights' moving average (F64; with ema_decay > 0 only)
 //       state.json              step, Adam step counts, sampler random state, the config
 // A checkpoint folder is written completely under checkpoints/.tmp-step_NNNNNNNN-<pid> and then
 // renamed into place: the rename is the commit, so a crash at any point leaves every
@@ -14,12 +16,14 @@
 // successful write older ones beyond `keep` and stale temporaries are removed (the previous
 // good checkpoint is never removed before the new one is committed).
 #include "simpli/model/network/parameter_store.h"
+#include "simpli/model/safetensors.h"
 #include "simpli/model/training/train_config.h"
 #include "simpli/model/training/train_random.h"
 
 #include <simpli/ocl/optim.h>
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -30,6 +34,8 @@ struct CheckpointData {
   TrainRandom::State random{}; ///< the sampler's state after those steps
   ocl::Adam::State adam;
   std::string configJson; ///< toJson(config) of the run
+  /// The weights' moving average by parameter name (train_average.h); empty = none.
+  std::map<std::string, HostTensor<double>> average;
 };
 
 struct CheckpointWriteOptions {
@@ -51,7 +57,8 @@ std::optional<std::string> latestCheckpoint(const std::string& runDir);
 
 /// Reads a checkpoint folder: loads the weights into `store` (every parameter must be present
 /// with its shape) and returns the rest; the Adam state is matched to the store's parameter
-/// order by name. Throws simpli::Error naming the file and field on any problem.
+/// order by name; the moving average is read when the folder has one. Throws simpli::Error
+/// naming the file and field on any problem.
 CheckpointData readCheckpoint(const std::string& dir, net::ParameterStore& store);
 
 } // namespace simpli::train

@@ -16,6 +16,7 @@
 //   "steps": 1000, "checkpoint_every": 100,
 //   "corrections": -1,                      // MLI corrections run in training (-1 = all)
 //   "max_fragments": 16,                    // rasterizer k-buffer size
+//   "ema_decay": 0,                         // > 0: keep an EMA of the weights (reference 0.9)
 //   "optimizer": {"lr": 3e-4, "beta1": 0.9, "beta2": 0.999, "eps": 1e-8,
 //                 "gamma": 0.999994, "clip_grad_norm": 20},
 //   "loss_weights": {"l1": 1, "perceptual": 0, "intermediate_loss_0_l1": 1,
@@ -71,6 +72,9 @@ struct TrainingConfig {
   int64_t checkpointEvery = 100;
   int corrections = -1;
   int maxFragments = 16;
+  /// Decay of the exponential moving average of the weights written beside them
+  /// (train_average.h); 0 = none.
+  double emaDecay = 0;
   OptimizerConfig optimizer;
   std::map<std::string, double> lossWeights; ///< every lossTermNames() key
   SamplingConfig sampling;

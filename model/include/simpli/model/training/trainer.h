@@ -2,8 +2,9 @@
 // The training loop (simpli_reference.md §8.2): per step one sample (train_sampler.h), the
 // generator's forward pass with the intermediate source renders, the novel views rendered with
 // the final layers, the losses (train_losses.h), backward, global gradient-norm clipping,
-// Adam with lr0 * gamma^step, a CSV row (train_log.h) and, every checkpoint_every steps and
-// when stopping early, an atomic checkpoint (train_checkpoint.h).
+// Adam with lr0 * gamma^step, the weights' moving average when ema_decay > 0
+// (train_average.h), a CSV row (train_log.h) and, every checkpoint_every steps and when
+// stopping early, an atomic checkpoint (train_checkpoint.h).
 //
 // Run folder: a new run needs a folder that does not exist or is empty; --resume continues the
 // run in it from its newest checkpoint (or from step 0 when it has none) with the run's own
@@ -13,6 +14,7 @@
 // bit-identical depends on the device: see tests/model/training/test_train_resume.cpp.)
 #include "simpli/model/generator/generator.h"
 #include "simpli/model/network/network.h"
+#include "simpli/model/training/train_average.h"
 #include "simpli/model/training/train_config.h"
 #include "simpli/model/training/train_data.h"
 #include "simpli/model/training/train_log.h"
@@ -67,6 +69,8 @@ public:
   int64_t startStep() const { return startStep_; }
   const TrainingConfig& config() const { return config_; }
   net::SimpliNetwork& network() { return *network_; }
+  /// The weights' moving average; null when ema_decay is 0.
+  const ParameterAverage* average() const { return average_.get(); }
   const std::string& runDir() const { return options_.runDir; }
 
   /// One optimiser step on a freshly drawn sample.
@@ -91,6 +95,7 @@ private:
   std::unique_ptr<ocl::Adam> adam_;
   std::unique_ptr<ocl::ExponentialLr> schedule_;
   std::unique_ptr<Sampler> sampler_;
+  std::unique_ptr<ParameterAverage> average_;
   std::unique_ptr<TrainLog> log_;
   Vgg19Features vgg_;
   int64_t step_ = 0, startStep_ = 0, totalSteps_ = 0, checkpointEvery_ = 1;
