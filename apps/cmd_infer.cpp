@@ -4,7 +4,11 @@
 // scene, or --views; the reference camera is the pose average of the sources (§6.1). Optionally
 // renders views of the scene (--render-views; held-out ones measure quality) to PNG and prints
 // PSNR / SSIM on the paper's 90 % central crop, and prints the time of every generator stage.
+// The forward pass shows a progress bar over its stages; SIGINT / SIGTERM cancel it after the
+// current stage, write nothing and exit with 130 / 143.
 #include "commands.h"
+#include "progress_bar.h"
+#include "stop_signals.h"
 #include <simpli/model/network/loader.h>
 
 #include <CLI/CLI.hpp>
@@ -60,7 +64,7 @@ Image toImage(const ocl::Tensor& colour) {
   return image;
 }
 
-void runInfer(const InferOptions& o) {
+int runInfer(const InferOptions& o) {
   namespace fs = std::filesystem;
   const auto start = Clock::now();
   if (!o.device.empty()) {
@@ -150,7 +154,25 @@ void runInfer(const InferOptions& o) {
   GeneratorOutput output;
   {
     ocl::NoGradGuard noGrad;
-    output = Generator(network).forward(input, options);
+    StopSignals signals;
+    std::fflush(stdout);
+    ProgressBar bar("forward", 1);
+    options.progress = [&bar](const std::string& stage, int done, int total) {
+      // The bar counts stages; `total` is known once the pass starts.
+      bar.setTotal(total);
+      bar.update(done, stage);
+      return stopSignal() == 0;
+    };
+    try {
+      output = Generator(network).forward(input, options);
+    } catch (const GeneratorCancelled&) {
+      bar.finish();
+      const int sig = stopSignal();
+      std::fprintf(stderr, "simpli infer: %s received; cancelled, nothing written to %s\n",
+                   sig == SIGTERM ? "SIGTERM" : "SIGINT", o.out.c_str());
+      return 128 + sig;
+    }
+    bar.finish();
   }
   const double forwardMs = msSince(t0);
   // One pass per process: hand the buffers the pool parked for reuse back to the device.
@@ -203,6 +225,7 @@ void runInfer(const InferOptions& o) {
                 path.c_str(), q.psnr, q.ssim, source ? "source view" : "held out", msSince(t0));
   }
   std::printf("total      %.1f ms (scene read %.1f ms)\n", msSince(start), readMs);
+  return 0;
 }
 
 } // namespace
@@ -240,7 +263,10 @@ void addInferCommand(CLI::App& app) {
   cmd->callback([o, seed] {
     if (seed->count() > 0 && o->initRandom < 0)
       fail("--init-random ", o->initRandom, ": the seed must be >= 0");
-    runInfer(*o);
+    if (const int code = runInfer(*o); code != 0) {
+      std::fflush(nullptr);
+      std::exit(code);
+    }
   });
 }
 

@@ -3,13 +3,13 @@
 // current step, write a checkpoint and exit with 130 / 143; `--resume` continues the run.
 #include "commands.h"
 #include "progress_bar.h"
+#include "stop_signals.h"
 
 #include <CLI/CLI.hpp>
 #include <simpli/error.h>
 #include <simpli/model/training/trainer.h>
 #include <simpli/ocl/device.h>
 
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -17,34 +17,6 @@
 namespace simpli::app {
 
 namespace {
-
-volatile std::sig_atomic_t g_signal = 0;
-
-extern "C" void onStopSignal(int signal) {
-  g_signal = signal;
-}
-
-// Installs the handlers for the lifetime of the run; a second signal gets the default action
-// (SA_RESETHAND), so a user can still kill a run that is busy writing its checkpoint.
-class StopSignals {
-public:
-  StopSignals() {
-    struct sigaction sa {};
-    sa.sa_handler = onStopSignal;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND;
-    sigaction(SIGINT, &sa, &oldInt_);
-    sigaction(SIGTERM, &sa, &oldTerm_);
-  }
-  ~StopSignals() {
-    sigaction(SIGINT, &oldInt_, nullptr);
-    sigaction(SIGTERM, &oldTerm_, nullptr);
-  }
-
-private:
-  struct sigaction oldInt_ {
-  }, oldTerm_{};
-};
 
 struct TrainCliOptions {
   std::string data, config, out, vgg, size, device;
@@ -84,7 +56,6 @@ int runTrain(const TrainCliOptions& o) {
     fail("--config is required for a new run (a resumed run uses its own config.json)");
 
   StopSignals signals;
-  g_signal = 0;
   std::unique_ptr<ProgressBar> bar;
   t.message = [&](const std::string& m) {
     if (bar)
@@ -92,7 +63,7 @@ int runTrain(const TrainCliOptions& o) {
     else
       std::fprintf(stderr, "%s\n", m.c_str());
   };
-  t.stopRequested = [] { return g_signal != 0; };
+  t.stopRequested = [] { return stopSignal() != 0; };
   t.onStep = [&](const train::StepReport& r) {
     char detail[128];
     std::snprintf(detail, sizeof detail, "loss %.4f, l1 %.4f, lr %.3g, %.0f ms/step", r.total,
@@ -103,7 +74,7 @@ int runTrain(const TrainCliOptions& o) {
   bar = std::make_unique<ProgressBar>("train", trainer.totalSteps(), trainer.startStep());
   const train::Trainer::RunResult result = trainer.run();
   bar->finish();
-  const int sig = g_signal;
+  const int sig = stopSignal();
   const std::string averaged =
       trainer.average() ? ", moving average " + o.out + "/weights_ema.safetensors" : "";
   std::printf("%s at step %lld of %lld; run folder %s (weights %s/weights.safetensors%s)\n",

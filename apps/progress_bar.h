@@ -20,6 +20,8 @@ public:
   ProgressBar(const ProgressBar&) = delete;
   ProgressBar& operator=(const ProgressBar&) = delete;
 
+  /// Changes the total (work whose size is known only once it runs).
+  void setTotal(int64_t total) { total_ = total < 0 ? 0 : total; }
   /// Reports `done` of total with an optional detail text.
   void update(int64_t done, const std::string& detail = "");
   /// Ends the line (terminal mode); later output starts on a fresh line.

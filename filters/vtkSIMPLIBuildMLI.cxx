@@ -66,9 +66,6 @@ std::string str(const char* s) {
   return s ? std::string(s) : std::string();
 }
 
-// Thrown from the generator's stage hook to stop the forward pass on an abort.
-struct Aborted {};
-
 // "0,2,5" (commas and/or spaces) -> {0, 2, 5}; range checks happen against the scene.
 std::vector<int> parseViewList(const std::string& text) {
   std::vector<int> views;
@@ -289,26 +286,16 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
       simpli::GeneratorOptions options;
       options.corrections = this->CorrectionSteps;
       options.timeStages = true;
-      // Progress and abort through the stage hook: the features, the level-1 MPI, the level-1
-      // layers and every correction's decoder are the milestones, 0.2 .. 0.85 of the work.
-      const int milestones = 3 + corrections;
-      int reached = 0;
-      options.stageHook = [&](const std::string& name, const simpli::ocl::Tensor&) {
-        const bool milestone = name == "features_extractor.out" || name == "sampi_block_lvl1.out" ||
-                               (name.rfind("rgba_decoder_lvl", 0) == 0 && name.size() > 4 &&
-                                name.compare(name.size() - 4, 4, ".out") == 0);
-        if (milestone && reached < milestones) {
-          ++reached;
-          this->UpdateProgress(0.2 + 0.65 * reached / milestones);
-        }
-        if (this->GetAbortExecute())
-          throw Aborted{};
+      // Progress and abort after every stage of the pass: 0.2 .. 0.85 of the work.
+      options.progress = [this](const std::string&, int done, int total) {
+        this->UpdateProgress(0.2 + 0.65 * done / total);
+        return !this->GetAbortExecute();
       };
       simpli::GeneratorOutput generated;
       try {
         simpli::ocl::NoGradGuard noGrad;
         generated = simpli::Generator(network).forward(input, options);
-      } catch (const Aborted&) {
+      } catch (const simpli::GeneratorCancelled&) {
         vtkDebugMacro(<< "Aborted during the forward pass");
         return 1;
       }

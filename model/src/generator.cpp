@@ -40,8 +40,10 @@ namespace simpli {
 
 namespace gen {
 
-StageClock::StageClock(bool finish, std::vector<std::pair<std::string, double>>* out)
-    : finish_(finish), out_(out) {
+StageClock::StageClock(bool finish, std::vector<std::pair<std::string, double>>* out,
+                       const GeneratorOptions::ProgressFn* progress, int total)
+    : finish_(finish), out_(out), progress_(progress && *progress ? progress : nullptr),
+      total_(total) {
   if (finish_)
     ocl::Device::current().finish();
   last_ = std::chrono::steady_clock::now();
@@ -53,6 +55,9 @@ void StageClock::mark(const std::string& name) {
   const auto now = std::chrono::steady_clock::now();
   out_->emplace_back(name, std::chrono::duration<double, std::milli>(now - last_).count());
   last_ = now;
+  ++done_;
+  if (progress_ && !(*progress_)(name, done_, std::max(total_, done_)))
+    throw GeneratorCancelled{};
 }
 
 ocl::Tensor chunked(const ocl::Tensor& x, int64_t chunk,
@@ -130,7 +135,12 @@ GeneratorOutput Generator::forward(const GeneratorInput& input,
 
   GeneratorOutput output;
   output.mpiOnly = cfg.mpiOnly;
-  gen::StageClock clock(options.timeStages, &output.stageMs);
+  // Stages (StageClock marks): features, level0, mpi_render, level1, planes_to_layers, then per
+  // correction render, unproject, [attention,] convs and decode.
+  int stages = 5;
+  for (int k = 0; k < corrections; ++k)
+    stages += network_.samliBlocks[static_cast<std::size_t>(k)].attention ? 5 : 4;
+  gen::StageClock clock(options.timeStages, &output.stageMs, &options.progress, stages);
   const double near = input.minDepth > 0 ? input.minDepth : cfg.minDepth;
   const double far = input.maxDepth > 0 ? input.maxDepth : cfg.maxDepth;
   gen::Context ctx{network_, input, options, planeDepths(cfg.numPlanes, near, far)};

@@ -17,16 +17,20 @@
 namespace simpli::gen {
 
 /// Records (stage, milliseconds) pairs; with `finish` the device queue is drained at every
-/// mark so the times are the stages' wall times.
+/// mark so the times are the stages' wall times. Reports each mark to GeneratorOptions::progress
+/// (of `total` marks) and throws GeneratorCancelled when it returns false.
 class StageClock {
 public:
-  StageClock(bool finish, std::vector<std::pair<std::string, double>>* out);
+  StageClock(bool finish, std::vector<std::pair<std::string, double>>* out,
+             const GeneratorOptions::ProgressFn* progress = nullptr, int total = 0);
   /// Closes the stage that started at the previous mark (or construction).
   void mark(const std::string& name);
 
 private:
   bool finish_;
   std::vector<std::pair<std::string, double>>* out_;
+  const GeneratorOptions::ProgressFn* progress_;
+  int total_, done_ = 0;
   std::chrono::steady_clock::time_point last_;
 };
 

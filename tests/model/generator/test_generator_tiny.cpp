@@ -135,6 +135,52 @@ TEST(GeneratorTiny, CorrectionsIntermediatesAndTiming) {
   EXPECT_EQ(out.intermediateSourceRenders.size(), 4u);
 }
 
+// progress(stage, done, total) follows the stages exactly (done = 1..total, the last call's done
+// is the total) for any number of corrections, and returning false cancels the pass.
+TEST(GeneratorTiny, ProgressReportsEveryStageAndCancels) {
+  ocl::NoGradGuard noGrad;
+  auto net = test::configNetwork("tiny", Dtype::F32);
+  const GeneratorInput input = test::syntheticInput(2, 32, 48, Dtype::F32, 8);
+  for (int corrections : {0, 1, 3}) {
+    GeneratorOptions options;
+    options.corrections = corrections;
+    std::vector<std::string> reported;
+    std::vector<int> done, totals;
+    options.progress = [&](const std::string& stage, int d, int total) {
+      reported.push_back(stage);
+      done.push_back(d);
+      totals.push_back(total);
+      return true;
+    };
+    const GeneratorOutput out = Generator(*net).forward(input, options);
+    ASSERT_EQ(reported.size(), out.stageMs.size()) << corrections << " corrections";
+    for (size_t i = 0; i < reported.size(); ++i) {
+      EXPECT_EQ(reported[i], out.stageMs[i].first);
+      EXPECT_EQ(done[i], int(i) + 1);
+      EXPECT_EQ(totals[i], int(reported.size())) << reported[i];
+    }
+  }
+  // Cancelled at the third stage: nothing after it runs.
+  GeneratorOptions options;
+  std::vector<std::string> reported;
+  options.progress = [&](const std::string& stage, int done, int) {
+    reported.push_back(stage);
+    return done < 3;
+  };
+  EXPECT_THROW(Generator(*net).forward(input, options), GeneratorCancelled);
+  EXPECT_EQ(reported, (std::vector<std::string>{"features", "level0", "mpi_render"}));
+  // The MPI-only network counts its stages too.
+  auto mpi = test::configNetwork("tiny-mpi", Dtype::F32);
+  int last = 0, total = -1;
+  options.progress = [&](const std::string&, int done, int t) {
+    last = done;
+    total = t;
+    return true;
+  };
+  Generator(*mpi).forward(input, options);
+  EXPECT_EQ(last, total);
+}
+
 TEST(GeneratorTiny, BadInput) {
   ocl::NoGradGuard noGrad;
   auto net = test::configNetwork("tiny", Dtype::F32);

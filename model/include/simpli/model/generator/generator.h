@@ -13,6 +13,7 @@
 
 #include <simpli/ocl/tensor.h>
 
+#include <exception>
 #include <functional>
 #include <string>
 #include <utility>
@@ -51,6 +52,17 @@ struct GeneratorOptions {
   /// "sampi_block_lvl1.out", "layered_depth"; layouts are this implementation's, see
   /// generator.cpp). Not called when empty (no cost).
   std::function<void(const std::string& name, const ocl::Tensor& value)> stageHook;
+  /// Progress and cancellation: called after every stage (the names of GeneratorOutput::stageMs)
+  /// with the stages done and their total for this pass; returning false cancels the pass
+  /// (forward then throws GeneratorCancelled). With timeStages the device has finished the
+  /// stage's work; without it, `done` counts enqueued stages.
+  using ProgressFn = std::function<bool(const std::string& stage, int done, int total)>;
+  ProgressFn progress;
+};
+
+/// Thrown by Generator::forward when GeneratorOptions::progress returns false.
+struct GeneratorCancelled : std::exception {
+  const char* what() const noexcept override { return "the forward pass was cancelled"; }
 };
 
 struct GeneratorOutput {
