@@ -92,6 +92,34 @@ TEST(GeneratorTiny, BlackAndSaturatedImages) {
   }
 }
 
+// Depth ranges far from the configs' 1 .. 100: a million-to-one range starting 1 cm from the
+// cameras, a range 0.1 % deep (planes almost on top of each other) and a distant scene. The
+// layered and the MPI-only networks stay finite, their depths stay inside the range, and the
+// surfaces render into a source view.
+TEST(GeneratorTiny, DepthRangeExtremes) {
+  ocl::NoGradGuard noGrad;
+  for (const char* config : {"tiny", "tiny-mpi"}) {
+    auto net = test::configNetwork(config, Dtype::F32);
+    const int S = net->config().surfaces();
+    for (const auto& [near, far] : {std::pair{0.01, 1e4}, {1.0, 1.001}, {1e3, 1e5}}) {
+      SCOPED_TRACE(std::string(config) + " near " + std::to_string(near) + " far " +
+                   std::to_string(far));
+      GeneratorInput input = test::syntheticInput(3, 32, 48, Dtype::F32, 9);
+      input.minDepth = near;
+      input.maxDepth = far;
+      const GeneratorOutput out = Generator(*net).forward(input);
+      expectValidOutput(out, S, 32, 48, true);
+      const std::vector<double> depth = out.depth.toVector();
+      const auto [lo, hi] = std::minmax_element(depth.begin(), depth.end());
+      EXPECT_GE(*lo, near * (1 - 1e-5));
+      EXPECT_LE(*hi, far * (1 + 1e-5));
+      const RenderedLayers view = renderNovelView(out, input.reference, input.sources[2]);
+      EXPECT_TRUE(test::allFinite(view.colour));
+      EXPECT_TRUE(test::allFinite(view.opacity));
+    }
+  }
+}
+
 TEST(GeneratorTiny, CorrectionsIntermediatesAndTiming) {
   ocl::NoGradGuard noGrad;
   auto net = test::configNetwork("tiny", Dtype::F32);
