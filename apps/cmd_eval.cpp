@@ -1,6 +1,7 @@
-// `simpli eval DATA --weights W --config C`: PSNR / SSIM of novel views with the paper's
-// protocol (central 90 % crop), mean +- std over R repeated samples, next to the nearest-source-
-// view baseline on the same samples.
+// `simpli eval DATA --weights W[,W2,...] --config C`: PSNR / SSIM of novel views with the
+// paper's protocol (central 90 % crop), mean +- std over R repeated samples, next to the
+// nearest-source-view baseline on the same samples. Several networks are scored on the same
+// samples, with each one's time to build the surfaces and its paired difference to the first.
 #include "commands.h"
 #include "progress_bar.h"
 
@@ -14,13 +15,16 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace simpli::app {
 
 namespace {
 
 struct EvalCliOptions {
-  std::string data, weights, config, size, device, dtype = "f32";
+  std::vector<std::string> weights;
+  std::string data, config, size, device, dtype = "f32";
   int repeats = 1, views = 4, novel = 4, window = 0, scenes = 1, corrections = -1;
   int64_t seed = 0;
 };
@@ -44,21 +48,26 @@ void runEval(const EvalCliOptions& o) {
     const auto [p, d] = ocl::Device::parseSelector(o.device, "--device");
     ocl::Device::select(p, d);
   }
-  net::NetworkConfig config;
-  if (!o.config.empty()) {
-    config = train::loadNetworkOrTrainingConfig(o.config);
-  } else {
-    const std::optional<net::NetworkConfig> fromWeights = net::configFromWeights(o.weights);
-    if (!fromWeights)
-      fail("--config is required: ", o.weights, " carries no \"network_config\" metadata");
-    config = *fromWeights;
-  }
   train::DataOptions data;
   if (!o.size.empty())
     train::parseWidthHeight(o.size, "--size", data.width, data.height);
   auto source = train::openTrainingData(o.data, data);
-  net::SimpliNetwork network(config, o.dtype == "f64" ? ocl::Dtype::F64 : ocl::Dtype::F32);
-  network.parameters().load(o.weights);
+  // Every network is loaded (and its config checked) before the first one is scored.
+  std::vector<std::unique_ptr<net::SimpliNetwork>> networks;
+  for (const std::string& weights : o.weights) {
+    net::NetworkConfig config;
+    if (!o.config.empty()) {
+      config = train::loadNetworkOrTrainingConfig(o.config);
+    } else {
+      const std::optional<net::NetworkConfig> fromWeights = net::configFromWeights(weights);
+      if (!fromWeights)
+        fail("--config is required: ", weights, " carries no \"network_config\" metadata");
+      config = *fromWeights;
+    }
+    networks.push_back(std::make_unique<net::SimpliNetwork>(
+        config, o.dtype == "f64" ? ocl::Dtype::F64 : ocl::Dtype::F32));
+    networks.back()->parameters().load(weights);
+  }
   train::EvalOptions e;
   e.repeats = o.repeats;
   e.views = o.views;
@@ -68,18 +77,48 @@ void runEval(const EvalCliOptions& o) {
   e.seed = uint64_t(o.seed);
   e.corrections = o.corrections;
   const uint64_t scenes = source->sceneCount() > 0 ? source->sceneCount() : uint64_t(o.scenes);
-  ProgressBar bar("eval", int64_t(scenes) * o.repeats);
-  const train::EvalResult r =
-      train::evaluate(network, *source, e, [&](int done, int) { bar.update(done); });
+  const int64_t perNetwork = int64_t(scenes) * o.repeats;
+  ProgressBar bar("eval", perNetwork * int64_t(networks.size()));
+  std::vector<train::EvalResult> results;
+  for (size_t i = 0; i < networks.size(); ++i) {
+    results.push_back(train::evaluate(*networks[i], *source, e, [&](int done, int) {
+      bar.update(int64_t(i) * perNetwork + done);
+    }));
+  }
   bar.finish();
+
+  const train::EvalResult& first = results[0];
   std::printf("evaluated %zu novel views (%s; %d sources, %d repeats, seed %lld; central 90%% "
               "crop)\n",
-              r.model.size(), source->describe().c_str(), o.views, o.repeats,
+              first.model.size(), source->describe().c_str(), o.views, o.repeats,
               static_cast<long long>(o.seed));
-  std::printf("  %-22s PSNR %6.2f +- %.2f dB   SSIM %.4f +- %.4f\n", "model", r.modelPsnr.mean,
-              r.modelPsnr.std, r.modelSsim.mean, r.modelSsim.std);
-  std::printf("  %-22s PSNR %6.2f +- %.2f dB   SSIM %.4f +- %.4f\n", "nearest source view",
-              r.baselinePsnr.mean, r.baselinePsnr.std, r.baselineSsim.mean, r.baselineSsim.std);
+  const bool several = networks.size() > 1;
+  auto label = [&](size_t i) { return several ? "model " + std::to_string(i + 1) : "model"; };
+  for (size_t i = 0; i < networks.size(); ++i) {
+    const net::NetworkConfig& c = networks[i]->config();
+    std::printf("  %-22s %s (config %s, %d %s; building them %.0f +- %.0f ms per sample)\n",
+                label(i).c_str(), o.weights[i].c_str(), c.name.c_str(), c.surfaces(),
+                c.mpiOnly ? "planes" : "layers", results[i].build.mean, results[i].build.std);
+  }
+  auto line = [](const std::string& name, const MeanStd& psnr, const MeanStd& ssim) {
+    std::printf("  %-22s PSNR %6.2f +- %.2f dB   SSIM %.4f +- %.4f\n", name.c_str(), psnr.mean,
+                psnr.std, ssim.mean, ssim.std);
+  };
+  for (size_t i = 0; i < networks.size(); ++i)
+    line(label(i), results[i].modelPsnr, results[i].modelSsim);
+  line("nearest source view", first.baselinePsnr, first.baselineSsim);
+  // Paired differences: the same target views, so the per-view spread of the network's
+  // quality cancels out.
+  for (size_t i = 1; i < networks.size(); ++i) {
+    std::vector<double> dp, ds;
+    for (size_t v = 0; v < first.model.size(); ++v) {
+      dp.push_back(results[i].model[v].psnr - first.model[v].psnr);
+      ds.push_back(results[i].model[v].ssim - first.model[v].ssim);
+    }
+    const MeanStd p = meanAndStd(dp), q = meanAndStd(ds);
+    std::printf("  %-22s PSNR %+6.2f +- %.2f dB   SSIM %+.4f +- %.4f (paired over %zu views)\n",
+                (label(i) + " - model 1").c_str(), p.mean, p.std, q.mean, q.std, dp.size());
+  }
 }
 
 } // namespace
@@ -92,7 +131,11 @@ void addEvalCommand(CLI::App& app) {
   cmd->add_option("data", opts->data,
                   "A scene folder, a folder of scene folders, or synthetic[:SEED]")
       ->required();
-  cmd->add_option("--weights", opts->weights, "Network weights (safetensors)")->required();
+  cmd->add_option("--weights", opts->weights,
+                  "Network weights (safetensors); several (comma separated) are scored on the "
+                  "same samples")
+      ->required()
+      ->delimiter(',');
   cmd->add_option("--config", opts->config,
                   "Network config or training config JSON (default: the weights' "
                   "\"network_config\" metadata, which `simpli train` writes)");

@@ -7,6 +7,9 @@
 #include "simpli/model/training/trainer.h"
 
 #include <simpli/ocl/autograd.h>
+#include <simpli/ocl/device.h>
+
+#include <chrono>
 
 #include <limits>
 
@@ -70,7 +73,15 @@ EvalResult evaluate(net::SimpliNetwork& network, TrainingData& data, const EvalO
       in.images = imagesToTensor(s.sources, network.parameters().dtype());
       in.sources = s.sourceCameras;
       in.reference = s.reference;
+      if (done == 0) { // warm-up: PoCL compiles kernels on first use, which is not build time
+        generator.forward(in, go);
+        ocl::Device::current().finish();
+      }
+      const auto t0 = std::chrono::steady_clock::now();
       const GeneratorOutput out = generator.forward(in, go);
+      ocl::Device::current().finish();
+      result.buildMs.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       for (size_t t = 0; t < s.targets.size(); ++t) {
         const MetricImage truth = metricImageFromImage(s.targets[t]);
         const RenderedLayers rl = renderNovelView(out, s.reference, s.targetCameras[t], o.raster);
@@ -95,6 +106,7 @@ EvalResult evaluate(net::SimpliNetwork& network, TrainingData& data, const EvalO
   };
   summary(result.model, result.modelPsnr, result.modelSsim);
   summary(result.baseline, result.baselinePsnr, result.baselineSsim);
+  result.build = meanAndStd(result.buildMs);
   return result;
 }
 

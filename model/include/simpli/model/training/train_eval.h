@@ -4,7 +4,8 @@
 // no crop, no MixUp), build the layers from the sources, render every target, and score it
 // against the held-out photo with PSNR / SSIM on the central 90 % crop (metrics.h). The same
 // samples are scored for the nearest-source-view baseline: the source image whose camera
-// centre is closest to the target's, compared as it is.
+// centre is closest to the target's, compared as it is. The samples depend only on the data and
+// the options (not on the network), so evaluations of several networks are paired view by view.
 #include "simpli/model/metrics.h"
 #include "simpli/model/network/network.h"
 #include "simpli/model/rasterizer.h"
@@ -31,6 +32,9 @@ struct EvalOptions {
 struct EvalResult {
   std::vector<ImageQuality> model, baseline; ///< per target view
   MeanStd modelPsnr, modelSsim, baselinePsnr, baselineSsim;
+  /// Per sample: the forward pass (building the surfaces), after one untimed warm-up pass.
+  std::vector<double> buildMs;
+  MeanStd build; ///< of buildMs
 };
 
 /// Index of the camera in `sources` whose centre is closest to `target`'s (first on ties).
