@@ -1,5 +1,6 @@
 // Camera helpers: projection, back-projection, matrices.
 #include "scene_fixtures.h"
+#include "test_helpers.h"
 
 #include <simpli/model/camera.h>
 
@@ -23,13 +24,7 @@ TEST(Camera, ProjectBackprojectRoundTrip) {
 }
 
 TEST(Camera, AnalyticIdentityCamera) {
-  Camera c;
-  c.fx = 0.8;
-  c.fy = 1.2;
-  c.cx = 0.5;
-  c.cy = 0.4;
-  c.width = 100;
-  c.height = 50;
+  Camera c = test::pinholeCamera(100, 50, 0.8, 1.2, 0.5, 0.4);
   c.t = Eigen::Vector3d(0, 0, -1); // centre at world z = 1
   EXPECT_TRUE(c.centre().isApprox(Eigen::Vector3d(0, 0, 1)));
   // A point on the optical axis at world z = 3 is 2 in front of the camera.

@@ -1,6 +1,7 @@
 #pragma once
-// Assertion helper shared by the model tests.
+// Helpers shared by the model tests: error assertions and camera construction.
 #include <simpli/error.h>
+#include <simpli/model/camera.h>
 
 #include <gtest/gtest.h>
 
@@ -26,6 +27,18 @@ template <typename F> std::string expectError(F&& f, std::initializer_list<std::
   }
   ADD_FAILURE() << "no simpli::Error thrown";
   return {};
+}
+
+/// A camera at the world origin looking down +z (identity pose) with relative intrinsics.
+inline Camera pinholeCamera(int width, int height, double fx, double fy, double cx, double cy) {
+  Camera c;
+  c.width = width;
+  c.height = height;
+  c.fx = fx;
+  c.fy = fy;
+  c.cx = cx;
+  c.cy = cy;
+  return c;
 }
 
 } // namespace simpli::test

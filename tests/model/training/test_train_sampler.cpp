@@ -18,12 +18,7 @@ Scene fakeScene(int frames, int W = 32, int H = 16) {
   for (int i = 0; i < frames; ++i) {
     SceneView v;
     v.name = std::to_string(i);
-    v.camera.width = W;
-    v.camera.height = H;
-    v.camera.fx = 0.9;
-    v.camera.fy = 1.7;
-    v.camera.cx = 0.48;
-    v.camera.cy = 0.53;
+    v.camera = test::pinholeCamera(W, H, 0.9, 1.7, 0.48, 0.53);
     v.camera.t = Eigen::Vector3d(0.01 * i, -0.02 * i, 0.005 * i);
     v.image = Image(W, H);
     for (size_t k = 0; k < v.image.data.size(); ++k)
@@ -121,13 +116,7 @@ TEST(TrainSampler, ReproducibleWithSeedAndResumableState) {
 }
 
 TEST(TrainSampler, CropIntrinsicsAnalytic) {
-  Camera cam;
-  cam.width = 192;
-  cam.height = 128;
-  cam.fx = 0.8;
-  cam.fy = 1.2;
-  cam.cx = 0.51;
-  cam.cy = 0.47;
+  Camera cam = test::pinholeCamera(192, 128, 0.8, 1.2, 0.51, 0.47);
   const Camera c = cropCamera(cam, 40, 24, 64, 48);
   EXPECT_EQ(c.width, 64);
   EXPECT_EQ(c.height, 48);
@@ -187,13 +176,7 @@ TEST(TrainSampler, CropPixelsAndReferenceCameraAndMixup) {
 // the original image its ray goes through. Ramp images (channel 0 = relative x, channel 1 =
 // relative y of the pixel centre) make that exact: bilinear interpolation reproduces a ramp.
 TEST(TrainSampler, ZoomImageMatchesZoomCameraAnalytic) {
-  Camera cam;
-  cam.width = 64;
-  cam.height = 48;
-  cam.fx = 0.9;
-  cam.fy = 1.3;
-  cam.cx = 0.46;
-  cam.cy = 0.55;
+  const Camera cam = test::pinholeCamera(64, 48, 0.9, 1.3, 0.46, 0.55);
   Image ramp(cam.width, cam.height);
   for (int y = 0; y < cam.height; ++y)
     for (int x = 0; x < cam.width; ++x) {
