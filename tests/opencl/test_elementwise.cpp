@@ -122,6 +122,12 @@ TEST(Elementwise, UnaryOpsAgainstReference) {
        [](double x) { return x > 0 ? x : std::expm1(x); }, -3, 3},
       {"elu0.5", [](const ocl::Tensor& x) { return ocl::elu(x, 0.5); },
        [](double x) { return x > 0 ? x : 0.5 * std::expm1(x); }, -3, 3},
+      // float ELU switches from a polynomial to exp(x) - 1 at -1/2; both sides, and values so
+      // small that exp(x) - 1 alone would have no correct digit.
+      {"elu_near0", [](const ocl::Tensor& x) { return ocl::elu(x, 1.0); },
+       [](double x) { return x > 0 ? x : std::expm1(x); }, -0.7, -0.3},
+      {"elu_tiny", [](const ocl::Tensor& x) { return ocl::elu(x, 1.0); },
+       [](double x) { return x > 0 ? x : std::expm1(x); }, -1e-6, -1e-8},
       {"sigmoid", [](const ocl::Tensor& x) { return ocl::sigmoid(x); },
        [](double x) { return 1 / (1 + std::exp(-x)); }, -6, 6},
       {"tanh", [](const ocl::Tensor& x) { return ocl::tanh(x); },
