@@ -182,19 +182,19 @@ Tensor convForward(const char* op, const Geometry& g, const Tensor& x, const Ten
                    const Tensor& bias, const Shape& outShape) {
   const Dtype dtype = x.dtype();
   Tensor y = Tensor::empty(outShape, dtype);
-  if (g.N == 0)
-    return y;
   const int64_t P = g.outP(), CK = g.ck();
+  if (g.N == 0 || P == 0)
+    return y;
   double beta = 0.0;
   if (bias.defined()) {
-    const int total = checkedInt(y.numel(), op);
+    const int rows = checkedInt(y.numel() / P, op);
     Launch("conv", "conv_bias_fill", dtype)
-        .arg(total)
+        .arg(rows)
         .arg(static_cast<int>(g.O))
-        .arg(static_cast<int>(P))
+        .arg(checkedInt(P, op))
         .arg(bias)
         .arg(y)
-        .run(total);
+        .run2((P + 7) / 8, rows, 64, 1);
     beta = 1.0;
   }
   const blas::Operand weight{w.buffer(), 0, sz(CK), false};
