@@ -2,6 +2,7 @@
 // validation and the two reference architectures.
 #include "simpli/model/network/config.h"
 
+#include "json_object_reader.h"
 #include "simpli/error.h"
 
 #include <nlohmann/json.hpp>
@@ -16,118 +17,28 @@ namespace {
 
 using json = nlohmann::json;
 
-std::string excerpt(const json& value) {
-  std::string s = value.dump();
-  return s.size() > 60 ? s.substr(0, 57) + "..." : s;
-}
-
-// A JSON object being read: remembers its path for messages and which keys were consumed, so
-// leftovers (typos) can be reported.
-class ObjectReader {
-public:
-  ObjectReader(const json& object, std::string source, std::string path)
-      : object_(object), source_(std::move(source)), path_(std::move(path)) {
-    if (!object_.is_object())
-      fail(source_, ": ", where(""), " is ", excerpt(object_), ", expected a JSON object");
-  }
-
-  std::string where(const std::string& key) const {
-    if (key.empty())
-      return path_.empty() ? "the top level" : "field \"" + path_ + "\"";
-    return "field \"" + (path_.empty() ? key : path_ + "." + key) + "\"";
-  }
-  std::string childPath(const std::string& key) const {
-    return path_.empty() ? key : path_ + "." + key;
-  }
-  const std::string& source() const { return source_; }
-
-  const json& require(const std::string& key) {
-    auto it = object_.find(key);
-    if (it == object_.end())
-      fail(source_, ": missing ", where(key));
-    used_.insert(key);
-    return *it;
-  }
-  bool has(const std::string& key) const { return object_.contains(key); }
-
-  int integer(const std::string& key, int lo, int hi) {
-    return integerValue(require(key), where(key), lo, hi);
-  }
-  int integerValue(const json& v, const std::string& what, int lo, int hi) const {
-    if (!v.is_number_integer())
-      fail(source_, ": ", what, " is ", excerpt(v), ", expected an integer");
-    const int64_t i = v.get<int64_t>();
-    if (i < lo || i > hi)
-      fail(source_, ": ", what, " = ", i, " is outside [", lo, ", ", hi, "]");
-    return static_cast<int>(i);
-  }
-  double number(const std::string& key) {
-    const json& v = require(key);
-    if (!v.is_number())
-      fail(source_, ": ", where(key), " is ", excerpt(v), ", expected a number");
-    const double d = v.get<double>();
-    if (!std::isfinite(d))
-      fail(source_, ": ", where(key), " = ", d, " is not finite");
-    return d;
-  }
-  bool boolean(const std::string& key) {
-    const json& v = require(key);
-    if (!v.is_boolean())
-      fail(source_, ": ", where(key), " is ", excerpt(v), ", expected true or false");
-    return v.get<bool>();
-  }
-  std::string string(const std::string& key) {
-    const json& v = require(key);
-    if (!v.is_string())
-      fail(source_, ": ", where(key), " is ", excerpt(v), ", expected a string");
-    return v.get<std::string>();
-  }
-  std::vector<int> integers(const std::string& key, int minCount, int maxCount) {
-    const json& v = require(key);
-    if (!v.is_array() || static_cast<int>(v.size()) < minCount ||
-        static_cast<int>(v.size()) > maxCount)
-      fail(source_, ": ", where(key), " is ", excerpt(v), ", expected an array of ", minCount,
-           minCount == maxCount ? "" : " to " + std::to_string(maxCount), " positive integers");
-    std::vector<int> out;
-    for (std::size_t i = 0; i < v.size(); ++i)
-      out.push_back(integerValue(v[i], where(key + "[" + std::to_string(i) + "]"), 1, 1 << 20));
-    return out;
-  }
-  ObjectReader object(const std::string& key) {
-    return ObjectReader(require(key), source_, childPath(key));
-  }
-  /// Throws for keys that were never read.
-  void finish() const {
-    for (auto it = object_.begin(); it != object_.end(); ++it)
-      if (!used_.count(it.key()))
-        fail(source_, ": unknown ", where(it.key()));
-  }
-
-private:
-  const json& object_;
-  std::string source_, path_;
-  std::set<std::string> used_;
-};
+using detail::jsonExcerpt;
+using detail::JsonObjectReader;
 
 constexpr int kMaxChannels = 1 << 16;
 
-std::vector<BlockDims> readBlocks(ObjectReader& r) {
+std::vector<BlockDims> readBlocks(JsonObjectReader& r) {
   const json& v = r.require("blocks");
   if (!v.is_array())
-    fail(r.source(), ": ", r.where("blocks"), " is ", excerpt(v),
+    fail(r.source(), ": ", r.where("blocks"), " is ", jsonExcerpt(v),
          ", expected an array of [inner, out] pairs");
   std::vector<BlockDims> blocks;
   for (std::size_t i = 0; i < v.size(); ++i) {
     const std::string what = r.where("blocks[" + std::to_string(i) + "]");
     if (!v[i].is_array() || v[i].size() != 2)
-      fail(r.source(), ": ", what, " is ", excerpt(v[i]), ", expected [inner, out]");
+      fail(r.source(), ": ", what, " is ", jsonExcerpt(v[i]), ", expected [inner, out]");
     blocks.push_back({r.integerValue(v[i][0], what + "[0]", 1, kMaxChannels),
                       r.integerValue(v[i][1], what + "[1]", 1, kMaxChannels)});
   }
   return blocks;
 }
 
-TBlockConfig readTBlock(ObjectReader r, bool withState, bool withAttention) {
+TBlockConfig readTBlock(JsonObjectReader r, bool withState, bool withAttention) {
   TBlockConfig c;
   c.blocks = readBlocks(r);
   c.outChannels = r.integer("out_channels", 1, kMaxChannels);
@@ -139,7 +50,7 @@ TBlockConfig readTBlock(ObjectReader r, bool withState, bool withAttention) {
   return c;
 }
 
-DecoderConfig readDecoder(ObjectReader r) {
+DecoderConfig readDecoder(JsonObjectReader r) {
   DecoderConfig c;
   c.hidden = r.integers("hidden", 0, 64);
   c.activation = parseActivation(r.string("activation"), r.source() + ": " + r.where("activation"));
@@ -239,7 +150,7 @@ NetworkConfig parseNetworkConfig(const std::string& jsonText, const std::string&
   } catch (const json::exception& e) {
     fail(source, ": not valid JSON (", e.what(), ")");
   }
-  ObjectReader r(root, source, "");
+  JsonObjectReader r(root, source, "");
   NetworkConfig c;
   c.name = r.string("name");
   c.numLayers = r.integer("num_layers", 1, 1024);
@@ -254,7 +165,7 @@ NetworkConfig parseNetworkConfig(const std::string& jsonText, const std::string&
   c.lvl0TanhPlanes = r.integer("lvl0_tanh_planes", 0, 4096);
   c.mliErrorWithImage = r.boolean("mli_error_with_image");
   {
-    ObjectReader fe = r.object("features_extractor");
+    JsonObjectReader fe = r.object("features_extractor");
     c.featuresExtractor.widths = fe.integers("widths", 4, 4);
     c.featuresExtractor.headWidth = fe.integer("head_width", 1, kMaxChannels);
     c.featuresExtractor.descriptors = fe.integer("descriptors", 1, kMaxChannels);
@@ -266,7 +177,7 @@ NetworkConfig parseNetworkConfig(const std::string& jsonText, const std::string&
   // The planes -> layers modules do not exist in the MPI-only baseline, so their sections
   // may be left out there.
   if (!c.mpiOnly || r.has("planes_deformer_lvl1")) {
-    ObjectReader d = r.object("planes_deformer_lvl1");
+    JsonObjectReader d = r.object("planes_deformer_lvl1");
     c.deformerHeads = d.integer("heads", 1, 1024);
     c.deformerHeadDim = d.integer("head_dim", 1, kMaxChannels);
     d.finish();
@@ -276,11 +187,12 @@ NetworkConfig parseNetworkConfig(const std::string& jsonText, const std::string&
   c.rgbaDecoder = readDecoder(r.object("rgba_decoder"));
   const json& samli = r.require("samli_blocks");
   if (!samli.is_array())
-    fail(source, ": field \"samli_blocks\" is ", excerpt(samli),
+    fail(source, ": field \"samli_blocks\" is ", jsonExcerpt(samli),
          ", expected an array (one entry per MLI correction)");
   for (std::size_t i = 0; i < samli.size(); ++i)
-    c.samliBlocks.push_back(readTBlock(
-        ObjectReader(samli[i], source, "samli_blocks[" + std::to_string(i) + "]"), false, true));
+    c.samliBlocks.push_back(
+        readTBlock(JsonObjectReader(samli[i], source, "samli_blocks[" + std::to_string(i) + "]"),
+                   false, true));
   r.finish();
   c.validate(source);
   return c;

@@ -3,6 +3,7 @@
 
 #include "simpli/model/network/loader.h"
 
+#include "json_object_reader.h"
 #include "simpli/error.h"
 #include "simpli/model/file_io.h"
 
@@ -18,81 +19,15 @@ namespace {
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-std::string excerpt(const json& v) {
-  std::string s = v.dump();
-  return s.size() > 60 ? s.substr(0, 57) + "..." : s;
-}
-
-// Reads one JSON object, remembering the consumed keys so that leftovers (typos) are errors.
-class Fields {
-public:
-  Fields(const json& object, const std::string& source, const std::string& path)
-      : object_(object), source_(source), path_(path) {
-    if (!object.is_object())
-      fail(source, ": ", where(""), " is ", excerpt(object), ", expected a JSON object");
-  }
-  std::string where(const std::string& key) const {
-    const std::string p = path_.empty() ? key : (key.empty() ? path_ : path_ + "." + key);
-    return p.empty() ? "the top level" : "field \"" + p + "\"";
-  }
-  const json* find(const std::string& key) {
-    auto it = object_.find(key);
-    if (it == object_.end())
-      return nullptr;
-    used_.insert(key);
-    return &*it;
-  }
-  void number(const std::string& key, double& out) {
-    if (const json* v = find(key)) {
-      if (!v->is_number() || !std::isfinite(v->get<double>()))
-        fail(source_, ": ", where(key), " is ", excerpt(*v), ", expected a finite number");
-      out = v->get<double>();
-    }
-  }
-  template <typename Int> void integer(const std::string& key, Int& out) {
-    if (const json* v = find(key)) {
-      if (!v->is_number_integer())
-        fail(source_, ": ", where(key), " is ", excerpt(*v), ", expected an integer");
-      out = static_cast<Int>(v->get<int64_t>());
-    }
-  }
-  void pair(const std::string& key, double& a, double& b) {
-    if (const json* v = find(key)) {
-      if (!v->is_array() || v->size() != 2 || !(*v)[0].is_number() || !(*v)[1].is_number())
-        fail(source_, ": ", where(key), " is ", excerpt(*v), ", expected [number, number]");
-      a = (*v)[0].get<double>();
-      b = (*v)[1].get<double>();
-    }
-  }
-  void numbers(const std::string& key, std::vector<double>& out) {
-    if (const json* v = find(key)) {
-      bool ok = v->is_array() && !v->empty();
-      for (size_t i = 0; ok && i < v->size(); ++i)
-        ok = (*v)[i].is_number() && std::isfinite((*v)[i].get<double>());
-      if (!ok)
-        fail(source_, ": ", where(key), " is ", excerpt(*v),
-             ", expected a non-empty list of finite numbers");
-      out = v->get<std::vector<double>>();
-    }
-  }
-  void finish() const {
-    for (auto it = object_.begin(); it != object_.end(); ++it)
-      if (!used_.count(it.key()))
-        fail(source_, ": unknown ", where(it.key()));
-  }
-
-private:
-  const json& object_;
-  std::string source_, path_;
-  std::set<std::string> used_;
-};
+using detail::jsonExcerpt;
+using detail::JsonObjectReader;
 
 net::NetworkConfig resolveNetwork(const json& v, const std::string& source,
                                   const std::string& baseDir) {
   if (v.is_object())
     return net::parseNetworkConfig(v.dump(), source + " (field \"network\")");
   if (!v.is_string())
-    fail(source, ": field \"network\" is ", excerpt(v),
+    fail(source, ": field \"network\" is ", jsonExcerpt(v),
          ", expected \"official-4l\", \"official-8l\", a file name or an object");
   const std::string name = v.get<std::string>();
   if (name == "official-4l")
@@ -205,7 +140,7 @@ TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::strin
     fail(source, ": not valid JSON: ", e.what());
   }
   TrainingConfig c;
-  Fields top(root, source, "");
+  JsonObjectReader top(root, source, "");
   const json* net = top.find("network");
   if (!net)
     fail(source, ": missing field \"network\"");
@@ -216,50 +151,50 @@ TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::strin
     else if (*d == "f64")
       c.dtype = ocl::Dtype::F64;
     else
-      fail(source, ": field \"dtype\" is ", excerpt(*d), ", expected \"f32\" or \"f64\"");
+      fail(source, ": field \"dtype\" is ", jsonExcerpt(*d), ", expected \"f32\" or \"f64\"");
   }
   if (const json* v = top.find("seed")) {
     if (!v->is_number_unsigned())
-      fail(source, ": field \"seed\" is ", excerpt(*v), ", expected an integer >= 0");
+      fail(source, ": field \"seed\" is ", jsonExcerpt(*v), ", expected an integer >= 0");
     c.seed = v->get<uint64_t>();
   }
-  top.integer("steps", c.steps);
-  top.integer("checkpoint_every", c.checkpointEvery);
-  top.integer("corrections", c.corrections);
-  top.integer("max_fragments", c.maxFragments);
-  top.number("ema_decay", c.emaDecay);
+  top.readInteger("steps", c.steps);
+  top.readInteger("checkpoint_every", c.checkpointEvery);
+  top.readInteger("corrections", c.corrections);
+  top.readInteger("max_fragments", c.maxFragments);
+  top.readNumber("ema_decay", c.emaDecay);
   if (const json* o = top.find("optimizer")) {
-    Fields f(*o, source, "optimizer");
-    f.number("lr", c.optimizer.lr);
-    f.number("beta1", c.optimizer.beta1);
-    f.number("beta2", c.optimizer.beta2);
-    f.number("eps", c.optimizer.eps);
-    f.number("gamma", c.optimizer.gamma);
-    f.number("clip_grad_norm", c.optimizer.clipGradNorm);
+    JsonObjectReader f(*o, source, "optimizer");
+    f.readNumber("lr", c.optimizer.lr);
+    f.readNumber("beta1", c.optimizer.beta1);
+    f.readNumber("beta2", c.optimizer.beta2);
+    f.readNumber("eps", c.optimizer.eps);
+    f.readNumber("gamma", c.optimizer.gamma);
+    f.readNumber("clip_grad_norm", c.optimizer.clipGradNorm);
     f.finish();
   }
   if (const json* w = top.find("loss_weights")) {
-    Fields f(*w, source, "loss_weights");
+    JsonObjectReader f(*w, source, "loss_weights");
     for (const std::string& term : lossTermNames())
-      f.number(term, c.lossWeights[term]);
+      f.readNumber(term, c.lossWeights[term]);
     f.finish();
   }
   if (const json* s = top.find("sampling")) {
-    Fields f(*s, source, "sampling");
+    JsonObjectReader f(*s, source, "sampling");
     SamplingConfig& sc = c.sampling;
-    f.integer("min_views", sc.minViews);
-    f.integer("max_views", sc.maxViews);
-    f.integer("novel_views", sc.novelViews);
-    f.integer("window", sc.window);
+    f.readInteger("min_views", sc.minViews);
+    f.readInteger("max_views", sc.maxViews);
+    f.readInteger("novel_views", sc.novelViews);
+    f.readInteger("window", sc.window);
     double ch = sc.cropHeight, cw = sc.cropWidth;
-    f.pair("crop", ch, cw);
+    f.readPair("crop", ch, cw);
     if (ch != std::floor(ch) || cw != std::floor(cw))
       fail(source, ": field \"sampling.crop\" = [", ch, ", ", cw, "]: expected integers");
     sc.cropHeight = int(ch);
     sc.cropWidth = int(cw);
-    f.numbers("zoom", sc.zoomScales);
-    f.number("mixup_probability", sc.mixupProbability);
-    f.pair("mixup_lambda", sc.mixupLambdaMin, sc.mixupLambdaMax);
+    f.readNumbers("zoom", sc.zoomScales);
+    f.readNumber("mixup_probability", sc.mixupProbability);
+    f.readPair("mixup_lambda", sc.mixupLambdaMin, sc.mixupLambdaMax);
     f.finish();
   }
   top.finish();
