@@ -1,5 +1,8 @@
 #include "mli_vtk_test_util.h"
 
+#include <vtkExecutive.h>
+#include <vtkNew.h>
+
 #include <algorithm>
 #include <atomic>
 #include <fstream>
@@ -82,6 +85,16 @@ std::string ErrorRecorder::all() const {
   for (const auto& m : messages)
     os << "[" << m << "]\n";
   return os.str();
+}
+
+int runWithErrors(vtkAlgorithm* alg, ErrorRecorder* errors) {
+  const unsigned long a = alg->AddObserver(vtkCommand::ErrorEvent, errors);
+  vtkNew<ErrorRecorder> executiveErrors;
+  const unsigned long b = alg->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, executiveErrors);
+  const int rc = alg->GetExecutive()->Update();
+  alg->RemoveObserver(a);
+  alg->GetExecutive()->RemoveObserver(b);
+  return rc;
 }
 
 } // namespace simpli::vtktest

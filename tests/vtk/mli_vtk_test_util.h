@@ -1,10 +1,11 @@
 #pragma once
-// Shared pieces of the MLI VTK tests: synthetic MLIs, a private temporary folder, an
-// ErrorEvent recorder.
+// Shared pieces of the VTK tests: synthetic MLIs, a private temporary folder, an ErrorEvent
+// recorder and a run that records an algorithm's errors.
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include <vtkAlgorithm.h>
 #include <vtkCommand.h>
 
 #include "simpli/model/mli.h"
@@ -50,5 +51,10 @@ public:
   std::string all() const;
   std::vector<std::string> messages;
 };
+
+/// Runs `alg` through its executive with `errors` observing the algorithm's ErrorEvents (the
+/// executive's "returned failure for request" is expected and muted); returns the executive's
+/// result (1 = success).
+int runWithErrors(vtkAlgorithm* alg, ErrorRecorder* errors);
 
 } // namespace simpli::vtktest

@@ -48,16 +48,6 @@ constexpr int kSeed = 11;
 const char* kViews = "0,6";
 constexpr int kCorrections = 1;
 
-int runWithErrors(vtkAlgorithm* alg, ErrorRecorder* errors) {
-  const unsigned long a = alg->AddObserver(vtkCommand::ErrorEvent, errors);
-  vtkNew<ErrorRecorder> executiveErrors; // "returned failure for request": expected, muted
-  const unsigned long b = alg->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, executiveErrors);
-  const int rc = alg->GetExecutive()->Update();
-  alg->RemoveObserver(a);
-  alg->GetExecutive()->RemoveObserver(b);
-  return rc;
-}
-
 // A filter set up for the scene folder, the tiny config and random weights.
 void configure(vtkSIMPLIBuildMLI* f) {
   f->SetSceneFileName(kScene.c_str());

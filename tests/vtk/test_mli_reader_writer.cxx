@@ -37,18 +37,6 @@ namespace {
 
 constexpr int kL = 3, kH = 5, kW = 7;
 
-// Runs `alg` through its executive with error observers on both; returns the executive's
-// result (1 = success).
-int runWithErrors(vtkAlgorithm* alg, ErrorRecorder* errors) {
-  const unsigned long a = alg->AddObserver(vtkCommand::ErrorEvent, errors);
-  vtkNew<ErrorRecorder> executiveErrors; // "returned failure for request": expected, muted
-  const unsigned long b = alg->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, executiveErrors);
-  const int rc = alg->GetExecutive()->Update();
-  alg->RemoveObserver(a);
-  alg->GetExecutive()->RemoveObserver(b);
-  return rc;
-}
-
 vtkPolyData* layerAt(vtkPartitionedDataSetCollection* c, unsigned int i) {
   vtkPartitionedDataSet* pds = c->GetPartitionedDataSet(i);
   return pds ? vtkPolyData::SafeDownCast(pds->GetPartition(0)) : nullptr;

@@ -43,16 +43,6 @@ namespace {
 
 const std::string kScene = std::string(SIMPLI_DATA_DIR) + "/synthetic/scene_00";
 
-int runWithErrors(vtkAlgorithm* alg, ErrorRecorder* errors) {
-  const unsigned long a = alg->AddObserver(vtkCommand::ErrorEvent, errors);
-  vtkNew<ErrorRecorder> executiveErrors; // "returned failure for request": expected, muted
-  const unsigned long b = alg->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, executiveErrors);
-  const int rc = alg->GetExecutive()->Update();
-  alg->RemoveObserver(a);
-  alg->GetExecutive()->RemoveObserver(b);
-  return rc;
-}
-
 vtkImageData* viewImage(vtkPartitionedDataSetCollection* c, unsigned int i) {
   vtkPartitionedDataSet* pds = c->GetPartitionedDataSet(i);
   return pds ? vtkImageData::SafeDownCast(pds->GetPartition(0)) : nullptr;

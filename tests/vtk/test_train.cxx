@@ -29,16 +29,6 @@ namespace {
 
 const std::string kScene = std::string(SIMPLI_DATA_DIR) + "/synthetic/scene_00";
 
-int runWithErrors(vtkAlgorithm* alg, ErrorRecorder* errors) {
-  const unsigned long a = alg->AddObserver(vtkCommand::ErrorEvent, errors);
-  vtkNew<ErrorRecorder> executiveErrors; // "returned failure for request": expected, muted
-  const unsigned long b = alg->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, executiveErrors);
-  const int rc = alg->GetExecutive()->Update();
-  alg->RemoveObserver(a);
-  alg->GetExecutive()->RemoveObserver(b);
-  return rc;
-}
-
 // Tiny config, scene_00 at 48 x 32 (W x H: multiples of 16), 3 steps.
 void configure(vtkSIMPLITrain* t, const std::string& runDir) {
   t->SetDataPath(kScene.c_str());
