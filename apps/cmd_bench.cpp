@@ -7,11 +7,11 @@
 
 #include <CLI/CLI.hpp>
 #include <cblas.h>
-#include <simpli/error.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/ops_conv.h>
-#include <simpli/ocl/ops_linalg.h>
+#include "simpli/error.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_conv.h"
+#include "simpli/ocl/ops_linalg.h"
 
 #include <algorithm>
 #include <chrono>

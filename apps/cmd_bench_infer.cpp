@@ -4,15 +4,15 @@
 // the pass; buffers parked in the pool for reuse are reported separately and released after
 // every view count). One untimed warm-up pass per view count compiles the kernels and fills the
 // buffer pool; the reported times are medians over --repeat passes. Measures, never asserts.
-#include <simpli/model/network/loader.h>
+#include "simpli/model/network/loader.h"
 
 #include <CLI/CLI.hpp>
-#include <simpli/error.h>
-#include <simpli/model/generator/generator.h>
-#include <simpli/model/reference_camera.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/buffer_pool.h>
-#include <simpli/ocl/device.h>
+#include "simpli/error.h"
+#include "simpli/model/generator/generator.h"
+#include "simpli/model/scene/reference_camera.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/buffer_pool.h"
+#include "simpli/ocl/device.h"
 
 #include <Eigen/Geometry>
 
@@ -45,11 +45,11 @@ double median(std::vector<double> v) {
 }
 
 /// V cameras on a circle of radius 0.05 around the origin, slightly rotated, looking along +z.
-GeneratorInput rigInput(int V, int H, int W, uint64_t seed) {
-  GeneratorInput input;
+generator::GeneratorInput rigInput(int V, int H, int W, uint64_t seed) {
+  generator::GeneratorInput input;
   for (int v = 0; v < V; ++v) {
     const double phase = 2.0 * M_PI * v / V;
-    Camera c;
+    scene::Camera c;
     c.R = (Eigen::AngleAxisd(0.01 * std::sin(phase), Eigen::Vector3d::UnitY()) *
            Eigen::AngleAxisd(0.01 * std::cos(phase), Eigen::Vector3d::UnitX()))
               .toRotationMatrix();
@@ -60,7 +60,7 @@ GeneratorInput rigInput(int V, int H, int W, uint64_t seed) {
     c.height = H;
     input.sources.push_back(c);
   }
-  input.reference = referenceCamera(input.sources);
+  input.reference = scene::referenceCamera(input.sources);
   input.images = ocl::Tensor::uniform({V, 3, H, W}, -1.0, 1.0, seed);
   return input;
 }
@@ -84,8 +84,8 @@ void runBenchInfer(const BenchInferOptions& o) {
     if (v < 1 || v > 64)
       fail("--views ", v, ": view counts must be in 1..64");
 
-  net::SimpliNetwork network(net::resolveNetworkConfig(o.config), ocl::Dtype::F32, 0);
-  const Generator generator(network);
+  network::SimpliNetwork network(network::resolveNetworkConfig(o.config), ocl::Dtype::F32, 0);
+  const generator::Generator generator(network);
   ocl::BufferPool& pool = ocl::Device::current().pool();
   std::printf("bench infer: config %s (%lld parameters, random weights), %d x %d (H x W), "
               "device %s, median of %d\n",
@@ -93,8 +93,8 @@ void runBenchInfer(const BenchInferOptions& o) {
               H, W, ocl::Device::current().info().deviceName.c_str(), o.repeat);
   ocl::NoGradGuard noGrad;
   for (int V : o.views) {
-    const GeneratorInput input = rigInput(V, H, W, 1234 + V);
-    GeneratorOptions options;
+    const generator::GeneratorInput input = rigInput(V, H, W, 1234 + V);
+    generator::GeneratorOptions options;
     options.corrections = o.corrections;
     options.timeStages = true;
     generator.forward(input, options); // warm-up: kernel compilation, buffer pool
@@ -106,7 +106,7 @@ void runBenchInfer(const BenchInferOptions& o) {
       pool.resetPeak();
       const std::size_t before = pool.stats().liveBytes;
       const auto t0 = std::chrono::steady_clock::now();
-      const GeneratorOutput out = generator.forward(input, options);
+      const generator::GeneratorOutput out = generator.forward(input, options);
       totals.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       peak = std::max(peak, pool.stats().peakBytes - std::min(before, pool.stats().peakBytes));

@@ -5,8 +5,8 @@
 #include "commands.h"
 
 #include <CLI/CLI.hpp>
-#include <simpli/error.h>
-#include <simpli/model/mli_io.h>
+#include "simpli/error.h"
+#include "simpli/model/mli/files.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -24,17 +24,17 @@ struct ConvertOptions {
   bool force = false;
 };
 
-const char* formatName(MLIFormat f) {
-  return f == MLIFormat::Lossless ? "lossless" : "jpeg";
+const char* formatName(mli::MLIFormat f) {
+  return f == mli::MLIFormat::Lossless ? "lossless" : "jpeg";
 }
 
 void runConvert(const ConvertOptions& o) {
   namespace fs = std::filesystem;
-  MLIReadOptions readOptions;
+  mli::MLIReadOptions readOptions;
   if (o.depthDecoding == "viewer")
-    readOptions.depthDecoding = MLIDepthDecoding::Viewer;
+    readOptions.depthDecoding = mli::MLIDepthDecoding::Viewer;
   else if (o.depthDecoding == "bin-centre")
-    readOptions.depthDecoding = MLIDepthDecoding::BinCentre;
+    readOptions.depthDecoding = mli::MLIDepthDecoding::BinCentre;
   else
     fail("--depth-decoding: unknown value '", o.depthDecoding, "' (expected viewer or bin-centre)");
   if (o.format != "auto" && o.format != "jpeg" && o.format != "lossless")
@@ -47,15 +47,15 @@ void runConvert(const ConvertOptions& o) {
       !(fs::is_directory(o.output, ec) && fs::is_empty(o.output, ec)))
     fail("output ", o.output, " already exists (use --force to replace an existing MLI)");
 
-  const MLIFormat inFormat = detectMLIFormat(o.input);
-  const MLI mli = readMLI(o.input, readOptions);
+  const mli::MLIFormat inFormat = mli::detectMLIFormat(o.input);
+  const mli::MLI mli = mli::readMLI(o.input, readOptions);
   // auto: the other form, so that a plain `simpli convert IN OUT` always converts.
-  const MLIFormat outFormat =
-      o.format == "jpeg" ? MLIFormat::Jpeg
+  const mli::MLIFormat outFormat =
+      o.format == "jpeg" ? mli::MLIFormat::Jpeg
       : o.format == "lossless"
-          ? MLIFormat::Lossless
-          : (inFormat == MLIFormat::Jpeg ? MLIFormat::Lossless : MLIFormat::Jpeg);
-  writeMLI(o.output, mli, outFormat);
+          ? mli::MLIFormat::Lossless
+          : (inFormat == mli::MLIFormat::Jpeg ? mli::MLIFormat::Lossless : mli::MLIFormat::Jpeg);
+  mli::writeMLI(o.output, mli, outFormat);
   std::printf("converted %s (%s, %d layers, %d x %d) -> %s (%s)\n", o.input.c_str(),
               formatName(inFormat), mli.numLayers(), mli.width(), mli.height(), o.output.c_str(),
               formatName(outFormat));

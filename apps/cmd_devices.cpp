@@ -3,9 +3,9 @@
 #include "commands.h"
 
 #include <CLI/CLI.hpp>
-#include <simpli/error.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/self_check.h>
+#include "simpli/error.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/self_check.h"
 
 #include <iostream>
 

@@ -6,11 +6,11 @@
 #include "progress_bar.h"
 
 #include <CLI/CLI.hpp>
-#include <simpli/error.h>
-#include <simpli/model/network/loader.h>
-#include <simpli/model/training/train_config.h>
-#include <simpli/model/training/train_eval.h>
-#include <simpli/ocl/device.h>
+#include "simpli/error.h"
+#include "simpli/model/network/loader.h"
+#include "simpli/model/training/config.h"
+#include "simpli/model/training/eval.h"
+#include "simpli/ocl/device.h"
 
 #include <cstdio>
 #include <memory>
@@ -48,27 +48,27 @@ void runEval(const EvalCliOptions& o) {
     const auto [p, d] = ocl::Device::parseSelector(o.device, "--device");
     ocl::Device::select(p, d);
   }
-  train::DataOptions data;
+  training::DataOptions data;
   if (!o.size.empty())
-    train::parseWidthHeight(o.size, "--size", data.width, data.height);
-  auto source = train::openTrainingData(o.data, data);
+    training::parseWidthHeight(o.size, "--size", data.width, data.height);
+  auto source = training::openTrainingData(o.data, data);
   // Every network is loaded (and its config checked) before the first one is scored.
-  std::vector<std::unique_ptr<net::SimpliNetwork>> networks;
+  std::vector<std::unique_ptr<network::SimpliNetwork>> networks;
   for (const std::string& weights : o.weights) {
-    net::NetworkConfig config;
+    network::NetworkConfig config;
     if (!o.config.empty()) {
-      config = train::loadNetworkOrTrainingConfig(o.config);
+      config = training::loadNetworkOrTrainingConfig(o.config);
     } else {
-      const std::optional<net::NetworkConfig> fromWeights = net::configFromWeights(weights);
+      const std::optional<network::NetworkConfig> fromWeights = network::configFromWeights(weights);
       if (!fromWeights)
         fail("--config is required: ", weights, " carries no \"network_config\" metadata");
       config = *fromWeights;
     }
-    networks.push_back(std::make_unique<net::SimpliNetwork>(
+    networks.push_back(std::make_unique<network::SimpliNetwork>(
         config, o.dtype == "f64" ? ocl::Dtype::F64 : ocl::Dtype::F32));
     networks.back()->parameters().load(weights);
   }
-  train::EvalOptions e;
+  training::EvalOptions e;
   e.repeats = o.repeats;
   e.views = o.views;
   e.novelViews = o.novel;
@@ -79,15 +79,15 @@ void runEval(const EvalCliOptions& o) {
   const uint64_t scenes = source->sceneCount() > 0 ? source->sceneCount() : uint64_t(o.scenes);
   const int64_t perNetwork = int64_t(scenes) * o.repeats;
   ProgressBar bar("eval", perNetwork * int64_t(networks.size()));
-  std::vector<train::EvalResult> results;
+  std::vector<training::EvalResult> results;
   for (size_t i = 0; i < networks.size(); ++i) {
-    results.push_back(train::evaluate(*networks[i], *source, e, [&](int done, int) {
+    results.push_back(training::evaluate(*networks[i], *source, e, [&](int done, int) {
       bar.update(int64_t(i) * perNetwork + done);
     }));
   }
   bar.finish();
 
-  const train::EvalResult& first = results[0];
+  const training::EvalResult& first = results[0];
   std::printf("evaluated %zu novel views (%s; %d sources, %d repeats, seed %lld; central 90%% "
               "crop)\n",
               first.model.size(), source->describe().c_str(), o.views, o.repeats,
@@ -95,12 +95,13 @@ void runEval(const EvalCliOptions& o) {
   const bool several = networks.size() > 1;
   auto label = [&](size_t i) { return several ? "model " + std::to_string(i + 1) : "model"; };
   for (size_t i = 0; i < networks.size(); ++i) {
-    const net::NetworkConfig& c = networks[i]->config();
+    const network::NetworkConfig& c = networks[i]->config();
     std::printf("  %-22s %s (config %s, %d %s; building them %.0f +- %.0f ms per sample)\n",
                 label(i).c_str(), o.weights[i].c_str(), c.name.c_str(), c.surfaces(),
                 c.mpiOnly ? "planes" : "layers", results[i].build.mean, results[i].build.std);
   }
-  auto line = [](const std::string& name, const MeanStd& psnr, const MeanStd& ssim) {
+  auto line = [](const std::string& name, const metrics::MeanStd& psnr,
+                 const metrics::MeanStd& ssim) {
     std::printf("  %-22s PSNR %6.2f +- %.2f dB   SSIM %.4f +- %.4f\n", name.c_str(), psnr.mean,
                 psnr.std, ssim.mean, ssim.std);
   };
@@ -115,7 +116,7 @@ void runEval(const EvalCliOptions& o) {
       dp.push_back(results[i].model[v].psnr - first.model[v].psnr);
       ds.push_back(results[i].model[v].ssim - first.model[v].ssim);
     }
-    const MeanStd p = meanAndStd(dp), q = meanAndStd(ds);
+    const metrics::MeanStd p = metrics::meanAndStd(dp), q = metrics::meanAndStd(ds);
     std::printf("  %-22s PSNR %+6.2f +- %.2f dB   SSIM %+.4f +- %.4f (paired over %zu views)\n",
                 (label(i) + " - model 1").c_str(), p.mean, p.std, q.mean, q.std, dp.size());
   }

@@ -1,27 +1,26 @@
-// `simpli infer SCENE --out DIR`: builds the MLI of a scene with the SIMPLI generator
-// (model/generator/generator.h) and writes it in both MLI forms (mli_io.h): the reference's JPEG
-// form in DIR and simpli's lossless float form in DIR/lossless. Source views: all views of the
-// scene, or --views; the reference camera is the pose average of the sources (§6.1). Optionally
-// renders views of the scene (--render-views; held-out ones measure quality) to PNG and prints
-// PSNR / SSIM on the paper's 90 % central crop, and prints the time of every generator stage.
-// The forward pass shows a progress bar over its stages; SIGINT / SIGTERM cancel it after the
-// current stage, write nothing and exit with 130 / 143.
+// `simpli infer SCENE --out DIR`: builds the MLI of a scene with the SIMPLI network
+// (generator::MLIBuilder, model/generator/mli_builder.h) and writes it in both MLI forms
+// (mli/files.h): the reference's JPEG form in DIR and simpli's lossless float form in DIR/lossless.
+// Source views: all views of the scene, or --views; the reference camera is the pose average of the
+// sources (spec §6.1). Optionally renders views of the scene (--render-views; held-out ones measure
+// quality) to PNG and prints PSNR / SSIM on the paper's 90 % central crop, and prints the time of
+// every generator stage. The forward pass shows a progress bar over its stages; SIGINT / SIGTERM
+// cancel it after the current stage, write nothing and exit with 130 / 143.
 #include "commands.h"
 #include "progress_bar.h"
 #include "stop_signals.h"
-#include <simpli/model/network/loader.h>
+#include "simpli/model/network/loader.h"
 
 #include <CLI/CLI.hpp>
-#include <simpli/error.h>
-#include <simpli/model/generator/generator.h>
-#include <simpli/model/image.h>
-#include <simpli/model/metrics.h>
-#include <simpli/model/mli_io.h>
-#include <simpli/model/reference_camera.h>
-#include <simpli/model/scene.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/buffer_pool.h>
-#include <simpli/ocl/device.h>
+#include "simpli/error.h"
+#include "simpli/model/generator/mli_builder.h"
+#include "simpli/model/io/image.h"
+#include "simpli/model/metrics/image_quality.h"
+#include "simpli/model/mli/files.h"
+#include "simpli/model/scene/scene.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/buffer_pool.h"
+#include "simpli/ocl/device.h"
 
 #include <algorithm>
 #include <chrono>
@@ -57,9 +56,34 @@ void checkViewIndices(const std::vector<int>& indices, std::size_t count, const 
   }
 }
 
+/// MLIBuildOptions::dropEmptyBelow for --layers: "all" keeps every surface, "auto" drops those
+/// with nothing visible after 8-bit export, N checks that the network has N surfaces.
+float layersThreshold(const std::string& layers, const network::NetworkConfig& config) {
+  if (layers == "all")
+    return 0.0f;
+  if (layers == "auto")
+    return 1.0f / 255.0f;
+  int n = 0;
+  try {
+    std::size_t used = 0;
+    n = std::stoi(layers, &used);
+    if (used != layers.size())
+      n = -1;
+  } catch (const std::exception&) {
+    n = -1;
+  }
+  if (n <= 0)
+    fail("--layers '", layers, "': expected auto, all or a number of layers");
+  if (n != config.surfaces())
+    fail("--layers ", n, ": the network (config '", config.name, "') has ", config.surfaces(),
+         config.mpiOnly ? " planes" : " layers",
+         "; choose a config with that many layers (e.g. official-", n, "l)");
+  return 0.0f;
+}
+
 /// The network's image of a rendered colour [3, H, W] in [-1, 1].
-Image toImage(const ocl::Tensor& colour) {
-  Image image(static_cast<int>(colour.size(2)), static_cast<int>(colour.size(1)));
+io::Image toImage(const ocl::Tensor& colour) {
+  io::Image image(static_cast<int>(colour.size(2)), static_cast<int>(colour.size(1)));
   image.data = colour.toVectorF32();
   return image;
 }
@@ -78,7 +102,7 @@ int runInfer(const InferOptions& o) {
 
   // Scene and source views.
   auto t0 = Clock::now();
-  const Scene scene = readScene(o.scene);
+  const scene::Scene scene = scene::readScene(o.scene);
   std::vector<int> views = o.views;
   if (views.empty())
     for (std::size_t i = 0; i < scene.size(); ++i)
@@ -88,50 +112,25 @@ int runInfer(const InferOptions& o) {
   const double readMs = msSince(t0);
 
   // Network.
-  const net::LoadedNetwork loaded =
-      net::loadNetwork(o.config, o.weights,
-                       o.initRandom >= 0 ? std::optional<uint64_t>(o.initRandom) : std::nullopt);
-  net::SimpliNetwork& network = *loaded.network;
-  const net::NetworkConfig& config = network.config();
+  generator::MLIBuilder builder;
+  generator::NetworkSource source;
+  source.config = o.config;
+  source.weights = o.weights;
+  if (o.initRandom >= 0)
+    source.randomSeed = static_cast<uint64_t>(o.initRandom);
+  const network::LoadedNetwork& loaded = builder.network(source);
+  network::SimpliNetwork& network = *loaded.network;
+  const network::NetworkConfig& config = network.config();
   if (o.corrections > config.mliCorrections())
     fail("--corrections ", o.corrections, ": config '", config.name, "' has ",
          config.mliCorrections(), " corrections");
-  float dropBelow = 0.0f;
-  if (o.layers == "auto")
-    dropBelow = 1.0f / 255.0f; // nothing visible after 8-bit export
-  else if (o.layers != "all") {
-    int n = 0;
-    try {
-      std::size_t used = 0;
-      n = std::stoi(o.layers, &used);
-      if (used != o.layers.size())
-        n = -1;
-    } catch (const std::exception&) {
-      n = -1;
-    }
-    if (n <= 0)
-      fail("--layers '", o.layers, "': expected auto, all or a number of layers");
-    if (n != config.surfaces())
-      fail("--layers ", n, ": the network (config '", config.name, "') has ", config.surfaces(),
-           config.mpiOnly ? " planes" : " layers",
-           "; choose a config with that many layers (e.g. official-", n, "l)");
-  }
+  generator::MLIBuildOptions options;
+  options.views = views;
+  options.corrections = o.corrections;
+  options.keepOutput = true; // for --render-views
+  options.dropEmptyBelow = layersThreshold(o.layers, config);
 
-  // Input: [V, 3, H, W] in [-1, 1], the source cameras and their reference camera.
-  GeneratorInput input;
   const int H = scene.height(), W = scene.width();
-  std::vector<float> pixels;
-  for (int v : views) {
-    const SceneView& view = scene.views[static_cast<std::size_t>(v)];
-    pixels.insert(pixels.end(), view.image.data.begin(), view.image.data.end());
-    input.sources.push_back(view.camera);
-  }
-  input.images =
-      ocl::Tensor::fromHost(pixels, {static_cast<int64_t>(views.size()), 3, H, W}, ocl::Dtype::F32);
-  input.reference = referenceCamera(input.sources);
-  input.reference.width = W;
-  input.reference.height = H;
-
   std::printf("scene      %s (%s, %zu views of %d x %d)\n", o.scene.c_str(), toString(scene.format),
               scene.size(), W, H);
   std::string list;
@@ -143,17 +142,13 @@ int runInfer(const InferOptions& o) {
   std::printf("weights    %s\n", loaded.weightsDescription.c_str());
   std::printf("device     %s\n", ocl::Device::current().info().deviceName.c_str());
 
-  // Forward pass.
-  GeneratorOptions options;
-  options.corrections = o.corrections;
-  options.timeStages = true;
+  // Forward pass and the MLI.
   ocl::BufferPool& pool = ocl::Device::current().pool();
   pool.resetPeak();
   const std::size_t liveBefore = pool.stats().liveBytes;
   t0 = Clock::now();
-  GeneratorOutput output;
+  generator::MLIBuild build;
   {
-    ocl::NoGradGuard noGrad;
     StopSignals signals;
     std::fflush(stdout);
     ProgressBar bar("forward", 1);
@@ -164,8 +159,8 @@ int runInfer(const InferOptions& o) {
       return stopSignal() == 0;
     };
     try {
-      output = Generator(network).forward(input, options);
-    } catch (const GeneratorCancelled&) {
+      build = builder.build(scene, options);
+    } catch (const generator::GeneratorCancelled&) {
       bar.finish();
       const int sig = stopSignal();
       std::fprintf(stderr, "simpli infer: %s received; cancelled, nothing written to %s\n",
@@ -174,6 +169,8 @@ int runInfer(const InferOptions& o) {
     }
     bar.finish();
   }
+  const generator::GeneratorOutput& output = *build.output;
+  const generator::GeneratorInput& input = build.input;
   const double forwardMs = msSince(t0);
   // One pass per process: hand the buffers the pool parked for reuse back to the device.
   pool.trim();
@@ -185,13 +182,13 @@ int runInfer(const InferOptions& o) {
 
   // The MLI in both forms.
   t0 = Clock::now();
-  const MLI mli = toMLI(output, input.reference, dropBelow);
+  const mli::MLI& mli = build.mli;
   const fs::path outDir(o.out);
   if (outDir.has_parent_path())
     fs::create_directories(outDir.parent_path());
-  writeMLI(o.out, mli, MLIFormat::Jpeg);
+  mli::writeMLI(o.out, mli, mli::MLIFormat::Jpeg);
   const std::string lossless = (outDir / "lossless").string();
-  writeMLI(lossless, mli, MLIFormat::Lossless);
+  mli::writeMLI(lossless, mli, mli::MLIFormat::Lossless);
   const int surfaces = static_cast<int>(output.rgba.size(0));
   std::printf("MLI        %d of %d %s (%d x %d) -> %s (jpeg), %s (lossless); %.1f ms\n",
               mli.numLayers(), surfaces, config.mpiOnly ? "planes" : "layers", mli.width(),
@@ -200,27 +197,27 @@ int runInfer(const InferOptions& o) {
     // So that the same random network can be loaded again (tests, benchmarks).
     const std::string path = (outDir / "random_weights.safetensors").string();
     network.parameters().save(
-        path, {{"config", net::toJson(config)}, {"seed", std::to_string(o.initRandom)}});
+        path, {{"config", network::toJson(config)}, {"seed", std::to_string(o.initRandom)}});
     std::printf("weights    saved to %s\n", path.c_str());
   }
 
   // Rendered views.
   for (int k : o.renderViews) {
     t0 = Clock::now();
-    const SceneView& view = scene.views[static_cast<std::size_t>(k)];
-    RenderedLayers r;
+    const scene::SceneView& view = scene.views[static_cast<std::size_t>(k)];
+    raster::RenderedLayers r;
     {
       ocl::NoGradGuard noGrad;
-      r = renderNovelView(output, input.reference, view.camera);
+      r = generator::renderNovelView(output, input.reference, view.camera);
     }
-    const Image image = toImage(r.colour);
+    const io::Image image = toImage(r.colour);
     char name[64];
     std::snprintf(name, sizeof name, "render_%03d.png", k);
     const std::string path = (outDir / name).string();
-    writeImagePng(image, path);
+    io::writeImagePng(image, path);
     const bool source = std::find(views.begin(), views.end(), k) != views.end();
-    const ImageQuality q =
-        evaluateImageQuality(metricImageFromImage(image), metricImageFromImage(view.image));
+    const metrics::ImageQuality q = metrics::evaluateImageQuality(
+        metrics::metricImageFromImage(image), metrics::metricImageFromImage(view.image));
     std::printf("view %-5d %s PSNR %.2f dB SSIM %.4f (%s, 90%% central crop); %.1f ms\n", k,
                 path.c_str(), q.psnr, q.ssim, source ? "source view" : "held out", msSince(t0));
   }

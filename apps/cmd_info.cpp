@@ -5,9 +5,9 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <simpli/error.h>
-#include <simpli/model/reference_camera.h>
-#include <simpli/model/scene.h>
+#include "simpli/error.h"
+#include "simpli/model/scene/reference_camera.h"
+#include "simpli/model/scene/scene.h"
 
 #include <cstdio>
 #include <iostream>
@@ -29,15 +29,15 @@ struct InfoOptions {
   bool json = false;
 };
 
-NormalisationMode parseNormalisation(const std::string& s) {
+scene::NormalisationMode parseNormalisation(const std::string& s) {
   if (s == "auto")
-    return NormalisationMode::Auto;
+    return scene::NormalisationMode::Auto;
   if (s == "none")
-    return NormalisationMode::None;
+    return scene::NormalisationMode::None;
   if (s == "near")
-    return NormalisationMode::NearBound;
+    return scene::NormalisationMode::NearBound;
   if (s == "points")
-    return NormalisationMode::PointPercentile;
+    return scene::NormalisationMode::PointPercentile;
   fail("--normalise: unknown value '", s, "' (expected auto, none, near or points)");
 }
 
@@ -48,7 +48,7 @@ std::string vec(const Eigen::Vector3d& v) {
   return os.str();
 }
 
-std::string intrinsics(const Camera& c) {
+std::string intrinsics(const scene::Camera& c) {
   std::ostringstream os;
   os.precision(6);
   os << "relative fx " << c.fx << " fy " << c.fy << " cx " << c.cx << " cy " << c.cy
@@ -57,14 +57,14 @@ std::string intrinsics(const Camera& c) {
   return os.str();
 }
 
-bool sameIntrinsics(const std::vector<Camera>& cams) {
-  for (const Camera& c : cams)
+bool sameIntrinsics(const std::vector<scene::Camera>& cams) {
+  for (const scene::Camera& c : cams)
     if (c.fx != cams[0].fx || c.fy != cams[0].fy || c.cx != cams[0].cx || c.cy != cams[0].cy)
       return false;
   return true;
 }
 
-nlohmann::json cameraJson(const Camera& c) {
+nlohmann::json cameraJson(const scene::Camera& c) {
   nlohmann::json j;
   j["R"] = {{c.R(0, 0), c.R(0, 1), c.R(0, 2)},
             {c.R(1, 0), c.R(1, 1), c.R(1, 2)},
@@ -81,7 +81,7 @@ nlohmann::json cameraJson(const Camera& c) {
   return j;
 }
 
-void printJson(const Scene& s, const Camera& ref, double baseline) {
+void printJson(const scene::Scene& s, const scene::Camera& ref, double baseline) {
   nlohmann::json j;
   j["root"] = s.root;
   j["format"] = toString(s.format);
@@ -101,7 +101,7 @@ void printJson(const Scene& s, const Camera& ref, double baseline) {
   j["baseline_scene"] = s.normalisation.toScene(baseline);
   j["points"] = s.points.size();
   j["views"] = nlohmann::json::array();
-  for (const SceneView& v : s.views) {
+  for (const scene::SceneView& v : s.views) {
     nlohmann::json jv = cameraJson(v.camera);
     jv["name"] = v.name;
     jv["image"] = v.imagePath;
@@ -113,15 +113,15 @@ void printJson(const Scene& s, const Camera& ref, double baseline) {
   std::cout << j.dump(2) << "\n";
 }
 
-void printText(const Scene& s, const Camera& ref, double baseline, int sizeMultiple) {
-  const std::vector<Camera> cams = s.cameras();
-  const Normalisation& n = s.normalisation;
+void printText(const scene::Scene& s, const scene::Camera& ref, double baseline, int sizeMultiple) {
+  const std::vector<scene::Camera> cams = s.cameras();
+  const scene::Normalisation& n = s.normalisation;
   std::cout.precision(6);
   std::cout << "scene          " << s.root << "\n"
             << "format         " << toString(s.format) << " (cameras from " << s.posesFile << ")\n"
             << "views          " << s.size() << "\n"
             << "image size     " << s.width() << " x " << s.height() << " (W x H)";
-  const SceneView& v0 = s.views[0];
+  const scene::SceneView& v0 = s.views[0];
   if (v0.originalWidth != s.width() || v0.originalHeight != s.height())
     std::cout << ", stored " << v0.originalWidth << " x " << v0.originalHeight
               << ", resized down to a multiple of " << sizeMultiple;
@@ -156,8 +156,8 @@ void printText(const Scene& s, const Camera& ref, double baseline, int sizeMulti
 }
 
 void runInfo(const InfoOptions& o) {
-  SceneReadOptions ro;
-  ro.format = parseSceneFormat(o.format);
+  scene::SceneReadOptions ro;
+  ro.format = scene::parseSceneFormat(o.format);
   ro.loadImages = false;
   ro.sizeMultiple = o.sizeMultiple;
   ro.imagesDir = o.imagesDir;
@@ -165,10 +165,10 @@ void runInfo(const InfoOptions& o) {
   ro.far = o.far;
   ro.normalisation.mode = parseNormalisation(o.normalise);
   ro.normalisation.minDepth = o.minDepth;
-  const Scene scene = readScene(o.scene, ro);
-  const std::vector<Camera> cams = scene.cameras();
-  const Camera ref = referenceCamera(cams);
-  const double baseline = maxBaseline(cams);
+  const scene::Scene scene = scene::readScene(o.scene, ro);
+  const std::vector<scene::Camera> cams = scene.cameras();
+  const scene::Camera ref = scene::referenceCamera(cams);
+  const double baseline = scene::maxBaseline(cams);
   if (o.json)
     printJson(scene, ref, baseline);
   else

@@ -3,8 +3,8 @@
 #include "commands.h"
 
 #include <CLI/CLI.hpp>
-#include <simpli/error.h>
-#include <simpli/model/synthetic/scene_writer.h>
+#include "simpli/error.h"
+#include "simpli/model/synthetic/scene_writer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -51,7 +51,7 @@ void parseSize(const std::string& text, int& width, int& height) {
 
 void runMakeScene(const MakeSceneOptions& o) {
   using namespace synthetic;
-  SyntheticSceneParams p;
+  synthetic::SyntheticSceneParams p;
   p.seed = o.seed;
   if (o.views < 1)
     fail("--views ", o.views, ": need at least 1 view");
@@ -66,22 +66,22 @@ void runMakeScene(const MakeSceneOptions& o) {
   p.validate(); // the remaining limits (e.g. views <= 10000), named by field
 
   const auto start = std::chrono::steady_clock::now();
-  const SyntheticScene scene = generateSyntheticScene(p);
-  const std::vector<RenderedView> views = renderViews(scene);
-  SceneWriteOptions wo;
+  const synthetic::SyntheticScene scene = synthetic::generateSyntheticScene(p);
+  const std::vector<synthetic::RenderedView> views = synthetic::renderViews(scene);
+  synthetic::SceneWriteOptions wo;
   wo.overwrite = o.force;
-  const WrittenScene written = writeSyntheticScene(o.out, scene, views, wo);
+  const synthetic::WrittenScene written = synthetic::writeSyntheticScene(o.out, scene, views, wo);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   std::map<std::string, int> roles;
-  for (const Shape& s : scene.objects)
+  for (const synthetic::Shape& s : scene.objects)
     ++roles[toString(s.role)];
   std::string contents;
   for (const auto& [role, count] : roles)
     contents += (contents.empty() ? "" : ", ") + std::to_string(count) + " " + role;
   double nearB = written.bounds[0].near, farB = written.bounds[0].far;
-  for (const DepthBounds& b : written.bounds) {
+  for (const synthetic::DepthBounds& b : written.bounds) {
     nearB = std::min(nearB, b.near);
     farB = std::max(farB, b.far);
   }

@@ -19,11 +19,11 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <simpli/error.h>
-#include <simpli/model/mli_io.h>
-#include <simpli/model/rasterizer_mli.h>
-#include <simpli/model/scene.h>
-#include <simpli/model/trajectory.h>
+#include "simpli/error.h"
+#include "simpli/model/mli/files.h"
+#include "simpli/model/raster/render_mli.h"
+#include "simpli/model/scene/scene.h"
+#include "simpli/model/scene/trajectory.h"
 
 #include <algorithm>
 #include <cmath>
@@ -115,7 +115,7 @@ int removeStaleFrames(const fs::path& out, size_t frames) {
   return removed;
 }
 
-nlohmann::json cameraJson(const Camera& c) {
+nlohmann::json cameraJson(const scene::Camera& c) {
   nlohmann::json j;
   std::vector<double> e, k;
   for (int r = 0; r < 3; ++r) {
@@ -150,10 +150,10 @@ void runRender(const RenderOptions& o) {
   int width = 0, height = 0;
   if (!o.size.empty())
     parseRenderSize(o.size, width, height);
-  TrajectoryOptions traj;
+  scene::TrajectoryOptions traj;
   if (!o.trajectory.empty()) {
     try {
-      traj.kind = parseTrajectoryKind(o.trajectory);
+      traj.kind = scene::parseTrajectoryKind(o.trajectory);
     } catch (const Error& e) {
       fail("--trajectory: ", e.what());
     }
@@ -167,33 +167,33 @@ void runRender(const RenderOptions& o) {
       !fs::exists(out, ec))
     fail("--out ", o.out, ": parent folder ", out.parent_path().string(), " does not exist");
 
-  const MLI mli = readMLI(o.mli);
-  std::vector<Camera> cameras;
+  const mli::MLI mli = mli::readMLI(o.mli);
+  std::vector<scene::Camera> cameras;
   if (!o.scene.empty()) {
-    SceneReadOptions so;
+    scene::SceneReadOptions so;
     so.loadImages = false;
-    const Scene scene = readScene(o.scene, so);
+    const scene::Scene scene = scene::readScene(o.scene, so);
     if (o.view >= 0) {
       if (o.view >= int(scene.size()))
         fail("--view ", o.view, ": the scene ", o.scene, " has ", scene.size(), " views");
       cameras.push_back(scene.views[size_t(o.view)].camera);
     } else {
-      traj = resolveTrajectory(traj, mli.camera, scene.cameras(), scene.near, scene.far);
-      cameras = makeTrajectory(mli.camera, traj);
+      traj = scene::resolveTrajectory(traj, mli.camera, scene.cameras(), scene.near, scene.far);
+      cameras = scene::makeTrajectory(mli.camera, traj);
     }
   } else if (!o.trajectory.empty()) {
     double near = std::numeric_limits<double>::infinity(), far = 0;
-    for (const MLILayer& layer : mli.layers)
+    for (const mli::MLILayer& layer : mli.layers)
       for (float d : layer.depth) {
         near = std::min(near, double(d));
         far = std::max(far, double(d));
       }
-    traj = resolveTrajectory(traj, mli.camera, {}, near, far);
-    cameras = makeTrajectory(mli.camera, traj);
+    traj = scene::resolveTrajectory(traj, mli.camera, {}, near, far);
+    cameras = scene::makeTrajectory(mli.camera, traj);
   } else {
     cameras.push_back(mli.camera);
   }
-  for (Camera& c : cameras)
+  for (scene::Camera& c : cameras)
     if (width > 0) {
       c.width = width;
       c.height = height;
@@ -203,10 +203,10 @@ void runRender(const RenderOptions& o) {
   if (!fs::is_directory(out, ec))
     fail("--out ", o.out, ": cannot create the folder");
 
-  RasterSettings settings;
+  raster::RasterSettings settings;
   settings.maxFragments = o.maxFragments;
-  settings.interpolation = o.perspectiveCorrect ? RasterInterpolation::PerspectiveCorrect
-                                                : RasterInterpolation::ScreenLinear;
+  settings.interpolation = o.perspectiveCorrect ? raster::RasterInterpolation::PerspectiveCorrect
+                                                : raster::RasterInterpolation::ScreenLinear;
   nlohmann::json meta;
   meta["mli"] = o.mli;
   meta["interpolation"] = o.perspectiveCorrect ? "perspective-correct" : "screen-linear";
@@ -216,8 +216,8 @@ void runRender(const RenderOptions& o) {
   meta["frames"] = nlohmann::json::array();
   long long clamped = 0;
   for (size_t i = 0; i < cameras.size(); ++i) {
-    const Camera& cam = cameras[i];
-    const RenderedLayers r = renderMLI(mli, cam, settings);
+    const scene::Camera& cam = cameras[i];
+    const raster::RenderedLayers r = raster::renderMLI(mli, cam, settings);
     const std::vector<float> colour = r.colour.toVectorF32();
     const std::vector<float> depth = r.depth.toVectorF32();
     const int W = cam.width, H = cam.height;

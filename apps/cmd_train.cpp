@@ -6,9 +6,9 @@
 #include "stop_signals.h"
 
 #include <CLI/CLI.hpp>
-#include <simpli/error.h>
-#include <simpli/model/training/trainer.h>
-#include <simpli/ocl/device.h>
+#include "simpli/error.h"
+#include "simpli/model/training/trainer.h"
+#include "simpli/ocl/device.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -34,7 +34,7 @@ void selectDevice(const std::string& text) {
 
 int runTrain(const TrainCliOptions& o) {
   selectDevice(o.device);
-  train::TrainerOptions t;
+  training::TrainerOptions t;
   t.data = o.data;
   t.runDir = o.out;
   t.resume = o.resume;
@@ -42,16 +42,16 @@ int runTrain(const TrainCliOptions& o) {
   t.checkpointEvery = o.checkpointEvery;
   t.vggPath = o.vgg;
   if (!o.size.empty())
-    train::parseWidthHeight(o.size, "--size", t.dataOptions.width, t.dataOptions.height);
+    training::parseWidthHeight(o.size, "--size", t.dataOptions.width, t.dataOptions.height);
   if (o.seed >= 0)
     t.seed = uint64_t(o.seed);
   if (o.steps < -1)
     fail("--steps ", o.steps, ": must be >= 0");
   if (o.checkpointEvery == 0 || o.checkpointEvery < -1)
     fail("--checkpoint-every ", o.checkpointEvery, ": must be >= 1");
-  std::unique_ptr<train::TrainingConfig> config;
+  std::unique_ptr<training::TrainingConfig> config;
   if (!o.config.empty())
-    config = std::make_unique<train::TrainingConfig>(train::resolveTrainingConfig(o.config));
+    config = std::make_unique<training::TrainingConfig>(training::resolveTrainingConfig(o.config));
   else if (!o.resume)
     fail("--config is required for a new run (a resumed run uses its own config.json)");
 
@@ -64,15 +64,15 @@ int runTrain(const TrainCliOptions& o) {
       std::fprintf(stderr, "%s\n", m.c_str());
   };
   t.stopRequested = [] { return stopSignal() != 0; };
-  t.onStep = [&](const train::StepReport& r) {
+  t.onStep = [&](const training::StepReport& r) {
     char detail[128];
     std::snprintf(detail, sizeof detail, "loss %.4f, l1 %.4f, lr %.3g, %.0f ms/step", r.total,
                   r.terms[0].second, r.lr, r.ms);
     bar->update(r.step, detail);
   };
-  train::Trainer trainer(config.get(), t);
+  training::Trainer trainer(config.get(), t);
   bar = std::make_unique<ProgressBar>("train", trainer.totalSteps(), trainer.startStep());
-  const train::Trainer::RunResult result = trainer.run();
+  const training::Trainer::RunResult result = trainer.run();
   bar->finish();
   const int sig = stopSignal();
   const std::string averaged =

@@ -2,7 +2,7 @@
 #include "commands.h"
 
 #include <CLI/CLI.hpp>
-#include <simpli/error.h>
+#include "simpli/error.h"
 
 #include <cstdio>
 #include <exception>

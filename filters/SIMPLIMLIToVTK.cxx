@@ -20,7 +20,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "simpli/error.h"
-#include "simpli/model/mli_mesh.h"
+#include "simpli/model/mli/mesh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -112,7 +112,7 @@ std::string layerName(int k) {
   return buf;
 }
 
-void addCameraFieldData(vtkFieldData* fd, const Camera& camera) {
+void addCameraFieldData(vtkFieldData* fd, const scene::Camera& camera) {
   auto intr = vtkSmartPointer<vtkDoubleArray>::New();
   intr->SetName(kIntrinsicsArray);
   intr->SetNumberOfComponents(4);
@@ -148,11 +148,11 @@ void addCameraFieldData(vtkFieldData* fd, const Camera& camera) {
   fd->AddArray(size);
 }
 
-Camera cameraFromFieldData(vtkFieldData* fd, const std::string& context) {
+scene::Camera cameraFromFieldData(vtkFieldData* fd, const std::string& context) {
   vtkDataArray* intr = requireFieldArray(fd, kIntrinsicsArray, 4, context);
   vtkDataArray* extr = requireFieldArray(fd, kExtrinsicsArray, 12, context);
   vtkDataArray* size = requireFieldArray(fd, kImageSizeArray, 2, context);
-  Camera cam;
+  scene::Camera cam;
   cam.fx = intr->GetComponent(0, 0);
   cam.fy = intr->GetComponent(0, 1);
   cam.cx = intr->GetComponent(0, 2);
@@ -170,16 +170,17 @@ Camera cameraFromFieldData(vtkFieldData* fd, const std::string& context) {
   }
   cam.width = static_cast<int>(size->GetComponent(0, 0));
   cam.height = static_cast<int>(size->GetComponent(0, 1));
-  validateMLICamera(cam,
-                    context + " (field data " + kIntrinsicsArray + ", " + kExtrinsicsArray + ")");
+  mli::validateMLICamera(cam, context + " (field data " + kIntrinsicsArray + ", " +
+                                  kExtrinsicsArray + ")");
   return cam;
 }
 
-vtkSmartPointer<vtkPolyData> layerToPolyData(const MLI& mli, int k, const LayerOptions& options) {
-  MLIMeshOptions meshOptions;
+vtkSmartPointer<vtkPolyData> layerToPolyData(const mli::MLI& mli, int k,
+                                             const LayerOptions& options) {
+  mli::MLIMeshOptions meshOptions;
   if (options.dropTransparentTriangles)
     meshOptions.dropAlphaBelow = static_cast<float>(options.alphaThreshold);
-  const MLIMesh mesh = buildLayerMesh(mli, k, meshOptions);
+  const mli::MLIMesh mesh = mli::buildLayerMesh(mli, k, meshOptions);
   const vtkIdType n = static_cast<vtkIdType>(mesh.numPoints());
   const vtkIdType nt = static_cast<vtkIdType>(mesh.numTriangles());
 
@@ -243,14 +244,14 @@ vtkSmartPointer<vtkPolyData> layerToPolyData(const MLI& mli, int k, const LayerO
   return pd;
 }
 
-bool mliToCollection(const MLI& mli, const LayerOptions& options,
+bool mliToCollection(const mli::MLI& mli, const LayerOptions& options,
                      vtkPartitionedDataSetCollection* out,
                      const std::function<bool(double)>& progress) {
-  validateMLI(mli, "MLI to VTK");
+  mli::validateMLI(mli, "MLI to VTK");
   out->Initialize();
   std::vector<bool> skip(static_cast<std::size_t>(mli.numLayers()), false);
   if (options.skipEmptyLayers)
-    for (int k : emptyLayers(mli, static_cast<float>(options.alphaThreshold)))
+    for (int k : mli::emptyLayers(mli, static_cast<float>(options.alphaThreshold)))
       skip[static_cast<std::size_t>(k)] = true;
 
   auto assembly = vtkSmartPointer<vtkDataAssembly>::New();
@@ -276,10 +277,10 @@ bool mliToCollection(const MLI& mli, const LayerOptions& options,
   return true;
 }
 
-MLI collectionToMLI(vtkPartitionedDataSetCollection* in, const std::string& context) {
+mli::MLI collectionToMLI(vtkPartitionedDataSetCollection* in, const std::string& context) {
   if (!in)
     fail(context, ": no input (expected a vtkPartitionedDataSetCollection of layers)");
-  MLI mli;
+  mli::MLI mli;
   mli.camera = cameraFromFieldData(in->GetFieldData(), context);
   const int W = mli.camera.width, H = mli.camera.height;
   const vtkIdType texels = static_cast<vtkIdType>(W) * H;
@@ -301,7 +302,7 @@ MLI collectionToMLI(vtkPartitionedDataSetCollection* in, const std::string& cont
     if (ds->GetNumberOfPoints() != texels)
       fail(where, ": ", ds->GetNumberOfPoints(), " points, expected ", W, " x ", H, " = ", texels,
            " (one per texel of the ", kImageSizeArray, " grid)");
-    MLILayer layer;
+    mli::MLILayer layer;
     layer.depth = requirePointArray(ds, kDepthArray, 1, texels, where);
     const std::vector<float> rgb = requirePointArray(ds, kColorArray, 3, texels, where);
     const std::vector<float> a = requirePointArray(ds, kAlphaArray, 1, texels, where);
@@ -313,7 +314,7 @@ MLI collectionToMLI(vtkPartitionedDataSetCollection* in, const std::string& cont
     }
     mli.layers.push_back(std::move(layer));
   }
-  validateMLI(mli, context);
+  mli::validateMLI(mli, context);
   return mli;
 }
 

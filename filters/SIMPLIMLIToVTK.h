@@ -19,7 +19,7 @@
 // Doubles hold the camera exactly, so it round-trips bit for bit.
 //
 // Layer vtkPolyData: W x H points (vertex (i, j) = point i W + j, on the corner grid, in world
-// coordinates: mli_mesh.h), two triangles per texel quad (fewer when transparent triangles are
+// coordinates: mli/mesh.h), two triangles per texel quad (fewer when transparent triangles are
 // dropped; points never are). Point data:
 //   RGBA     vtkUnsignedCharArray, 4 components, the active scalars: round(255 c), straight
 //            (not premultiplied) colour and alpha, for display with MapScalars off
@@ -40,7 +40,7 @@
 
 #include "vtkSmartPointer.h"
 
-#include "simpli/model/mli.h"
+#include "simpli/model/mli/mli.h"
 
 class vtkFieldData;
 class vtkPartitionedDataSetCollection;
@@ -73,19 +73,20 @@ struct LayerOptions {
 std::string layerName(int k);
 
 /// Adds (replacing same-named arrays) the camera arrays described above to `fd`.
-void addCameraFieldData(vtkFieldData* fd, const Camera& camera);
+void addCameraFieldData(vtkFieldData* fd, const scene::Camera& camera);
 
 /// The camera in `fd`; throws simpli::Error starting with `context` and naming the array and
 /// the value when an array is missing, has the wrong shape or the camera is invalid.
-Camera cameraFromFieldData(vtkFieldData* fd, const std::string& context);
+scene::Camera cameraFromFieldData(vtkFieldData* fd, const std::string& context);
 
 /// Layer k of `mli` as a vtkPolyData (the MLI must be valid: see validateMLI).
-vtkSmartPointer<vtkPolyData> layerToPolyData(const MLI& mli, int k, const LayerOptions& options);
+vtkSmartPointer<vtkPolyData> layerToPolyData(const mli::MLI& mli, int k,
+                                             const LayerOptions& options);
 
 /// Replaces the contents of `out` with `mli`. `progress(f)` is called before each layer with
 /// f in [0, 1); when it returns false the conversion stops, `out` is emptied and the result is
 /// false. Throws simpli::Error for an invalid MLI.
-bool mliToCollection(const MLI& mli, const LayerOptions& options,
+bool mliToCollection(const mli::MLI& mli, const LayerOptions& options,
                      vtkPartitionedDataSetCollection* out,
                      const std::function<bool(double)>& progress = {});
 
@@ -93,6 +94,6 @@ bool mliToCollection(const MLI& mli, const LayerOptions& options,
 /// starting with `context` and naming the layer, the array and the value for a missing camera
 /// or array, a layer that is not one data set with W x H points, or values that validateMLI
 /// rejects.
-MLI collectionToMLI(vtkPartitionedDataSetCollection* in, const std::string& context);
+mli::MLI collectionToMLI(vtkPartitionedDataSetCollection* in, const std::string& context);
 
 } // namespace simpli::vtkmli

@@ -54,7 +54,7 @@ bool nearFarFromFieldData(vtkFieldData* fd, const std::string& context, double& 
   return true;
 }
 
-void imageToVTK(const Image& image, vtkImageData* out) {
+void imageToVTK(const io::Image& image, vtkImageData* out) {
   const int W = image.width, H = image.height;
   out->Initialize();
   out->SetDimensions(W, H, 1);
@@ -77,7 +77,7 @@ void imageToVTK(const Image& image, vtkImageData* out) {
   out->GetPointData()->SetScalars(rgb);
 }
 
-Image imageFromVTK(vtkImageData* image, const std::string& context) {
+io::Image imageFromVTK(vtkImageData* image, const std::string& context) {
   if (!image)
     fail(context, ": not a vtkImageData");
   int dims[3];
@@ -98,7 +98,7 @@ Image imageFromVTK(vtkImageData* image, const std::string& context) {
     fail(context, ": point data \"", rgb->GetName() ? rgb->GetName() : "(unnamed)", "\" has ",
          rgb->GetNumberOfTuples(), " tuple(s) of ", nc, " component(s), expected ", W * H,
          " of 3 (RGB) or 4");
-  Image out(W, H);
+  io::Image out(W, H);
   const unsigned char* p = rgb->GetPointer(0);
   for (int y = 0; y < H; ++y) {
     const std::size_t row = static_cast<std::size_t>(H - 1 - y); // VTK's row 0 is the bottom
@@ -121,13 +121,13 @@ std::string stringValue(vtkFieldData* fd, const char* name) {
 
 } // namespace
 
-Scene vtkToScene(vtkPartitionedDataSetCollection* collection, const std::string& context) {
+scene::Scene vtkToScene(vtkPartitionedDataSetCollection* collection, const std::string& context) {
   if (!collection)
     fail(context, ": no scene (expected the vtkPartitionedDataSetCollection of the scene reader)");
   const unsigned int n = collection->GetNumberOfPartitionedDataSets();
   if (n == 0)
     fail(context, ": the scene holds no views (no partitioned data sets)");
-  Scene scene;
+  scene::Scene scene;
   scene.root = context;
   vtkFieldData* fd = collection->GetFieldData();
   if (!nearFarFromFieldData(fd, context, scene.near, scene.far))
@@ -142,12 +142,12 @@ Scene vtkToScene(vtkPartitionedDataSetCollection* collection, const std::string&
     scene.normalisation.scale = scale;
   }
   if (const std::string format = stringValue(fd, kSceneFormatArray); !format.empty())
-    scene.format = parseSceneFormat(format);
-  const std::vector<Camera> cameras = sceneCameras(collection, context);
+    scene.format = scene::parseSceneFormat(format);
+  const std::vector<scene::Camera> cameras = sceneCameras(collection, context);
   for (unsigned int i = 0; i < n; ++i) {
     const std::string where = context + ": scene view " + std::to_string(i);
     auto* image = vtkImageData::SafeDownCast(collection->GetPartitionedDataSet(i)->GetPartition(0));
-    SceneView view;
+    scene::SceneView view;
     view.image = imageFromVTK(image, where);
     view.camera = cameras[i];
     if (view.camera.width != view.image.width || view.camera.height != view.image.height)
@@ -165,11 +165,11 @@ Scene vtkToScene(vtkPartitionedDataSetCollection* collection, const std::string&
   return scene;
 }
 
-std::vector<Camera> sceneCameras(vtkPartitionedDataSetCollection* scene,
-                                 const std::string& context) {
+std::vector<scene::Camera> sceneCameras(vtkPartitionedDataSetCollection* scene,
+                                        const std::string& context) {
   if (!scene)
     fail(context, ": no scene (expected the vtkPartitionedDataSetCollection of the scene reader)");
-  std::vector<Camera> cameras;
+  std::vector<scene::Camera> cameras;
   for (unsigned int i = 0; i < scene->GetNumberOfPartitionedDataSets(); ++i) {
     vtkPartitionedDataSet* pds = scene->GetPartitionedDataSet(i);
     auto* image = pds && pds->GetNumberOfPartitions() > 0

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "simpli/model/camera.h"
-#include "simpli/model/image.h"
-#include "simpli/model/scene.h"
+#include "simpli/model/io/image.h"
+#include "simpli/model/scene/camera.h"
+#include "simpli/model/scene/scene.h"
 
 class vtkFieldData;
 class vtkImageData;
@@ -42,13 +42,13 @@ bool nearFarFromFieldData(vtkFieldData* fd, const std::string& context, double& 
 
 /// An RGB image ([-1, 1] CHW, row 0 = top) as a vtkImageData with uchar "RGB" point scalars
 /// (round((v + 1) 127.5), clamped; VTK row order).
-void imageToVTK(const Image& image, vtkImageData* out);
+void imageToVTK(const io::Image& image, vtkImageData* out);
 
 /// The inverse of imageToVTK: the image's 3- or 4-component unsigned char point scalars (the
 /// active scalars, else the "RGB" array; a fourth component is ignored) as [-1, 1] values
 /// x / 127.5 - 1, exactly as readImage decodes an 8-bit file. Throws simpli::Error starting with
 /// `context` for a missing or mis-shaped array or an image that is not 2-D.
-Image imageFromVTK(vtkImageData* image, const std::string& context);
+io::Image imageFromVTK(vtkImageData* image, const std::string& context);
 
 /// The inverse of vtkSIMPLISceneReader's port 0: a simpli::Scene with every view's image
 /// (imageFromVTK), camera (field data, as sceneCameras), ViewName and ImagePath (when
@@ -57,12 +57,12 @@ Image imageFromVTK(vtkImageData* image, const std::string& context);
 /// without a resize come back bit for bit. Throws simpli::Error starting with `context` and naming
 /// the view and the array for anything missing or invalid (camera image size different from the
 /// image's, no views, no NearFar).
-Scene vtkToScene(vtkPartitionedDataSetCollection* scene, const std::string& context);
+scene::Scene vtkToScene(vtkPartitionedDataSetCollection* scene, const std::string& context);
 
 /// The cameras of the views of a scene collection, in dataset order. Throws simpli::Error
 /// starting with `context` and naming the view and the array when a view is not an image or
 /// its camera is missing or invalid.
-std::vector<Camera> sceneCameras(vtkPartitionedDataSetCollection* scene,
-                                 const std::string& context);
+std::vector<scene::Camera> sceneCameras(vtkPartitionedDataSetCollection* scene,
+                                        const std::string& context);
 
 } // namespace simpli::vtkscene

@@ -8,7 +8,7 @@
 #include "vtkPartitionedDataSetCollection.h"
 
 #include "simpli/error.h"
-#include "simpli/model/mli_io.h"
+#include "simpli/model/mli/files.h"
 
 #include <exception>
 #include <filesystem>
@@ -37,7 +37,7 @@ int vtkMLIReader::CanReadFile(const char* name) {
   if (!name || !*name)
     return 0;
   try {
-    simpli::detectMLIFormat(FolderOf(name));
+    simpli::mli::detectMLIFormat(FolderOf(name));
     return 1;
   } catch (const std::exception&) {
     return 0;
@@ -59,12 +59,12 @@ int vtkMLIReader::RequestData(vtkInformation* vtkNotUsed(request),
   }
 
   try {
-    simpli::MLIReadOptions readOptions;
+    simpli::mli::MLIReadOptions readOptions;
     readOptions.depthDecoding = this->DepthDecoding == DEPTH_BIN_CENTRE
-                                    ? simpli::MLIDepthDecoding::BinCentre
-                                    : simpli::MLIDepthDecoding::Viewer;
+                                    ? simpli::mli::MLIDepthDecoding::BinCentre
+                                    : simpli::mli::MLIDepthDecoding::Viewer;
     this->UpdateProgress(0.0);
-    const simpli::MLI mli = simpli::readMLI(FolderOf(this->FileName), readOptions);
+    const simpli::mli::MLI mli = simpli::mli::readMLI(FolderOf(this->FileName), readOptions);
     if (this->GetAbortExecute()) {
       return 1; // aborted: empty output, no error
     }

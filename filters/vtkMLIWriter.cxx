@@ -10,7 +10,7 @@
 #include "vtkPartitionedDataSetCollection.h"
 
 #include "simpli/error.h"
-#include "simpli/model/mli_io.h"
+#include "simpli/model/mli/files.h"
 
 #include <exception>
 #include <string>
@@ -49,15 +49,16 @@ bool vtkMLIWriter::WriteCollection(vtkPartitionedDataSetCollection* input) {
     this->SetErrorCode(vtkErrorCode::UnknownError);
     return false;
   }
-  const simpli::MLIFormat format =
-      this->Format == FORMAT_LOSSLESS ? simpli::MLIFormat::Lossless : simpli::MLIFormat::Jpeg;
+  const simpli::mli::MLIFormat format = this->Format == FORMAT_LOSSLESS
+                                            ? simpli::mli::MLIFormat::Lossless
+                                            : simpli::mli::MLIFormat::Jpeg;
   try {
     this->UpdateProgress(0.0);
-    const simpli::MLI mli =
+    const simpli::mli::MLI mli =
         simpli::vtkmli::collectionToMLI(input, std::string("MLI '") + this->FileName + "'");
     this->UpdateProgress(0.2);
     // One call, atomic: it either produces the complete folder or leaves none behind.
-    simpli::writeMLI(this->FileName, mli, format);
+    simpli::mli::writeMLI(this->FileName, mli, format);
     return true;
   } catch (const simpli::Error& e) {
     vtkErrorMacro(<< "Cannot write " << e.what());

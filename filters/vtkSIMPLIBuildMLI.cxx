@@ -17,9 +17,9 @@
 #include "simpli/error.h"
 #include "simpli/model/generator/generator.h"
 #include "simpli/model/generator/scene_input.h"
-#include "simpli/model/mli.h"
+#include "simpli/model/mli/mli.h"
 #include "simpli/model/network/loader.h"
-#include "simpli/model/scene.h"
+#include "simpli/model/scene/scene.h"
 #include "simpli/ocl/autograd.h"
 
 #include <chrono>
@@ -39,12 +39,12 @@ vtkStandardNewMacro(vtkSIMPLIBuildMLI);
 // computed from (so that changing only how the layers become meshes does not rerun it).
 class vtkSIMPLIBuildMLI::vtkInternals {
 public:
-  std::unique_ptr<simpli::net::SimpliNetwork> Network;
+  std::unique_ptr<simpli::network::SimpliNetwork> Network;
   std::string Key; ///< weights, their modification time, config, seed and device
   std::string WeightsDescription;
   int DeviceUser = 0;
 
-  std::optional<simpli::MLI> LastMLI;
+  std::optional<simpli::mli::MLI> LastMLI;
   std::string LastForwardKey;    ///< Key, corrections, depth range, cameras
   std::vector<float> LastPixels; ///< the source images
   void ForgetForward() {
@@ -102,13 +102,13 @@ std::string modificationTime(const std::string& path) {
 
 // Everything besides the pixels that the forward pass depends on, exactly (17 digits).
 std::string forwardKey(const std::string& networkKey, int corrections,
-                       const simpli::GeneratorInput& input) {
+                       const simpli::generator::GeneratorInput& input) {
   std::ostringstream os;
   os << std::setprecision(17) << networkKey << "\n"
      << corrections << " " << input.minDepth << " " << input.maxDepth;
-  std::vector<simpli::Camera> cameras = input.sources;
+  std::vector<simpli::scene::Camera> cameras = input.sources;
   cameras.push_back(input.reference);
-  for (const simpli::Camera& c : cameras) {
+  for (const simpli::scene::Camera& c : cameras) {
     os << "\n"
        << c.width << " " << c.height << " " << c.fx << " " << c.fy << " " << c.cx << " " << c.cy;
     for (int r = 0; r < 3; ++r) {
@@ -121,7 +121,7 @@ std::string forwardKey(const std::string& networkKey, int corrections,
 }
 
 // The source views' pixels, in input order.
-std::vector<float> sourcePixels(const simpli::Scene& scene, const std::vector<int>& views) {
+std::vector<float> sourcePixels(const simpli::scene::Scene& scene, const std::vector<int>& views) {
   std::vector<float> pixels;
   for (int v : views) {
     const std::vector<float>& data = scene.views[static_cast<std::size_t>(v)].image.data;
@@ -200,7 +200,7 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
     auto* sceneInput = inputVector[0]->GetNumberOfInformationObjects() > 0
                            ? vtkPartitionedDataSetCollection::GetData(inputVector[0], 0)
                            : nullptr;
-    simpli::Scene scene;
+    simpli::scene::Scene scene;
     if (sceneInput) {
       scene = simpli::vtkscene::vtkToScene(sceneInput, "Build MLI: input scene");
     } else {
@@ -208,7 +208,7 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
         simpli::fail("no scene: connect a scene (SIMPLI Scene Reader) to the input or set "
                      "SceneFileName to a scene folder");
       try {
-        scene = simpli::readScene(this->SceneFileName);
+        scene = simpli::scene::readScene(this->SceneFileName);
       } catch (const simpli::Error& e) {
         simpli::fail("SceneFileName '", this->SceneFileName, "': ", e.what());
       }
@@ -216,7 +216,7 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
     stages.emplace_back("read_scene", msSince(t0));
     std::vector<int> views;
     try {
-      views = simpli::sceneInputViews(scene, requestedViews);
+      views = simpli::generator::sceneInputViews(scene, requestedViews);
     } catch (const simpli::Error& e) {
       simpli::fail("SourceViews '", str(this->SourceViews), "': ", e.what());
     }
@@ -230,16 +230,16 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
     const std::string weights = str(this->WeightsFile);
     const std::string key =
         weights + "\n" +
-        modificationTime(weights.empty() ? simpli::net::defaultWeightsPath() : weights) + "\n" +
+        modificationTime(weights.empty() ? simpli::network::defaultWeightsPath() : weights) + "\n" +
         str(this->Config) + "\n" + std::to_string(this->RandomSeed) + "\n" +
         simpli::vtkdevice::currentDevice();
     vtkInternals& in = *this->Internals;
     if (!in.Network || in.Key != key) {
       in.Network.reset();
       in.Key.clear();
-      simpli::net::LoadedNetwork loaded;
+      simpli::network::LoadedNetwork loaded;
       try {
-        loaded = simpli::net::loadNetwork(
+        loaded = simpli::network::loadNetwork(
             str(this->Config), weights,
             this->RandomSeed >= 0 ? std::optional<uint64_t>(this->RandomSeed) : std::nullopt);
       } catch (const simpli::Error& e) {
@@ -251,8 +251,8 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
       in.Key = key;
     }
     stages.emplace_back("load_network", msSince(t0));
-    simpli::net::SimpliNetwork& network = *in.Network;
-    const simpli::net::NetworkConfig& config = network.config();
+    simpli::network::SimpliNetwork& network = *in.Network;
+    const simpli::network::NetworkConfig& config = network.config();
     if (this->NumberOfPlanes != 0 && this->NumberOfPlanes != config.numPlanes)
       simpli::fail("NumberOfPlanes ", this->NumberOfPlanes, ": the network (config '", config.name,
                    "') was built for ", config.numPlanes,
@@ -267,12 +267,13 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
       return 1;
 
     // --- the forward pass ----------------------------------------------------------------------
-    simpli::SceneInputOptions inputOptions;
+    simpli::generator::SceneInputOptions inputOptions;
     inputOptions.views = views;
     inputOptions.depthRange = this->DepthRange == DEPTH_RANGE_SCENE
-                                  ? simpli::DepthRangeSource::Scene
-                                  : simpli::DepthRangeSource::Config;
-    const simpli::GeneratorInput input = simpli::sceneInput(scene, inputOptions);
+                                  ? simpli::generator::DepthRangeSource::Scene
+                                  : simpli::generator::DepthRangeSource::Config;
+    const simpli::generator::GeneratorInput input =
+        simpli::generator::sceneInput(scene, inputOptions);
 
     const int corrections =
         this->CorrectionSteps < 0 ? config.mliCorrections() : this->CorrectionSteps;
@@ -283,7 +284,7 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
       stages.emplace_back("forward_reused", 0.0);
     } else {
       in.ForgetForward();
-      simpli::GeneratorOptions options;
+      simpli::generator::GeneratorOptions options;
       options.corrections = this->CorrectionSteps;
       options.timeStages = true;
       // Progress and abort after every stage of the pass: 0.2 .. 0.85 of the work.
@@ -291,18 +292,18 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
         this->UpdateProgress(0.2 + 0.65 * done / total);
         return !this->GetAbortExecute();
       };
-      simpli::GeneratorOutput generated;
+      simpli::generator::GeneratorOutput generated;
       try {
         simpli::ocl::NoGradGuard noGrad;
-        generated = simpli::Generator(network).forward(input, options);
-      } catch (const simpli::GeneratorCancelled&) {
+        generated = simpli::generator::Generator(network).forward(input, options);
+      } catch (const simpli::generator::GeneratorCancelled&) {
         vtkDebugMacro(<< "Aborted during the forward pass");
         return 1;
       }
       for (const auto& stage : generated.stageMs)
         stages.push_back(stage);
       t0 = Clock::now();
-      in.LastMLI = simpli::toMLI(generated, input.reference);
+      in.LastMLI = simpli::generator::toMLI(generated, input.reference);
       stages.emplace_back("to_mli", msSince(t0));
       in.LastForwardKey = fwdKey;
       in.LastPixels = std::move(pixels);
@@ -312,14 +313,14 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
       return 1;
 
     // --- the meshes -----------------------------------------------------------------------------
-    const simpli::MLI& mli = *in.LastMLI;
+    const simpli::mli::MLI& mli = *in.LastMLI;
     simpli::vtkmli::LayerOptions layerOptions;
     layerOptions.dropTransparentTriangles = this->DropTransparentTriangles;
     layerOptions.alphaThreshold = this->EmptyLayerThreshold;
     // "auto" layers; an MLI whose every layer is empty keeps them all (never an empty output).
     layerOptions.skipEmptyLayers =
         this->DropEmptyLayers &&
-        simpli::emptyLayers(mli, static_cast<float>(this->EmptyLayerThreshold)).size() <
+        simpli::mli::emptyLayers(mli, static_cast<float>(this->EmptyLayerThreshold)).size() <
             mli.layers.size();
     t0 = Clock::now();
     const bool complete =

@@ -9,7 +9,7 @@
  * give the same MLI when the images need no resize (the collection carries 8-bit pixels).
  *
  * The network (simpli/model/network/loader.h): weights from WeightsFile (empty = the default
- * weights, simpli::net::defaultWeightsPath()), config from Config (a name such as "tiny" or
+ * weights, simpli::network::defaultWeightsPath()), config from Config (a name such as "tiny" or
  * "official-4l", or the path of a JSON file; empty = the one stored in the weights' metadata).
  * RandomSeed >= 0 initialises the weights randomly instead (testing; WeightsFile must then be
  * empty). The loaded network is kept between updates while WeightsFile (and its modification

@@ -16,7 +16,7 @@
 #include "vtkTable.h"
 
 #include "simpli/error.h"
-#include "simpli/model/metrics.h"
+#include "simpli/model/metrics/image_quality.h"
 
 #include <cmath>
 #include <exception>
@@ -122,8 +122,9 @@ namespace {
 
 // One view as a metric image (row 0 = top), values scaled to [0, 1]. `a` is the array chosen
 // for this view (null when absent), `association` its attribute type.
-simpli::MetricImage toMetricImage(vtkDataArray* a, int association, int idx, vtkImageData* image,
-                                  double maxValue, const std::string& what) {
+simpli::metrics::MetricImage toMetricImage(vtkDataArray* a, int association, int idx,
+                                           vtkImageData* image, double maxValue,
+                                           const std::string& what) {
   if (!a) {
     simpli::fail(what, ": the array to compare is missing (by default the point scalars; ",
                  "select one with SetInputArrayToProcess(", idx, ", ...))");
@@ -150,7 +151,7 @@ simpli::MetricImage toMetricImage(vtkDataArray* a, int association, int idx, vtk
   }
   const int channels = nc == 4 ? 3 : nc;
   const double scale = maxValue > 0.0 ? maxValue : automaticMaxValue(a, arrayWhat);
-  simpli::MetricImage m(w, h, channels);
+  simpli::metrics::MetricImage m(w, h, channels);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       // VTK images start at the bottom row; metric images at the top.
@@ -213,18 +214,18 @@ int vtkSIMPLIImageQuality::RequestData(vtkInformation* vtkNotUsed(request),
       int assocG = vtkDataObject::FIELD_ASSOCIATION_POINTS;
       vtkDataArray* arrayR = this->GetInputArrayToProcess(0, rendered[v], assocR);
       vtkDataArray* arrayG = this->GetInputArrayToProcess(1, truth[v], assocG);
-      const simpli::MetricImage r =
+      const simpli::metrics::MetricImage r =
           toMetricImage(arrayR, assocR, 0, rendered[v], this->MaxValue, view + ", " + portName(0));
-      const simpli::MetricImage g =
+      const simpli::metrics::MetricImage g =
           toMetricImage(arrayG, assocG, 1, truth[v], this->MaxValue, view + ", " + portName(1));
       if (r.width != g.width || r.height != g.height || r.channels != g.channels) {
         simpli::fail(view, ": rendered image is ", r.width, " x ", r.height, " with ", r.channels,
                      " channel(s) but the ground truth is ", g.width, " x ", g.height, " with ",
                      g.channels);
       }
-      simpli::ImageQuality q;
+      simpli::metrics::ImageQuality q;
       try {
-        q = simpli::evaluateImageQuality(r, g, this->CropAreaFraction);
+        q = simpli::metrics::evaluateImageQuality(r, g, this->CropAreaFraction);
       } catch (const simpli::Error& e) {
         simpli::fail(view, ": ", e.what());
       }
@@ -234,7 +235,8 @@ int vtkSIMPLIImageQuality::RequestData(vtkInformation* vtkNotUsed(request),
       psnrs.push_back(q.psnr);
       ssims.push_back(q.ssim);
     }
-    const simpli::MeanStd ps = simpli::meanAndStd(psnrs), ss = simpli::meanAndStd(ssims);
+    const simpli::metrics::MeanStd ps = simpli::metrics::meanAndStd(psnrs),
+                                   ss = simpli::metrics::meanAndStd(ssims);
     views->InsertNextValue("mean");
     psnr->InsertNextValue(ps.mean);
     ssim->InsertNextValue(ss.mean);

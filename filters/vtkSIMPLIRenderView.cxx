@@ -18,8 +18,8 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "simpli/error.h"
-#include "simpli/model/rasterizer_mli.h"
-#include "simpli/model/trajectory.h"
+#include "simpli/model/raster/render_mli.h"
+#include "simpli/model/scene/trajectory.h"
 
 #include <algorithm>
 #include <cmath>
@@ -45,10 +45,10 @@ const char* modeName(int mode) {
 }
 
 // Smallest and largest depth of the MLI's layers.
-void depthRange(const simpli::MLI& mli, double& near, double& far) {
+void depthRange(const simpli::mli::MLI& mli, double& near, double& far) {
   near = std::numeric_limits<double>::infinity();
   far = 0;
-  for (const simpli::MLILayer& layer : mli.layers)
+  for (const simpli::mli::MLILayer& layer : mli.layers)
     for (float d : layer.depth) {
       near = std::min(near, static_cast<double>(d));
       far = std::max(far, static_cast<double>(d));
@@ -147,14 +147,14 @@ bool vtkSIMPLIRenderView::PredictOutputSize(int size[2]) {
     auto* mli = vtkPartitionedDataSetCollection::SafeDownCast(updatedInput(this, 0));
     if (!mli)
       return false;
-    const simpli::Camera reference =
+    const simpli::scene::Camera reference =
         simpli::vtkmli::cameraFromFieldData(mli->GetFieldData(), "render view: MLI input");
     int W = reference.width, H = reference.height;
     if (this->CameraMode == CAMERA_SCENE_VIEW) {
       auto* scene = vtkPartitionedDataSetCollection::SafeDownCast(updatedInput(this, 1));
       if (!scene)
         return false;
-      const std::vector<simpli::Camera> cams =
+      const std::vector<simpli::scene::Camera> cams =
           simpli::vtkscene::sceneCameras(scene, "render view: scene input");
       if (this->ViewIndex >= static_cast<int>(cams.size()))
         return false;
@@ -198,15 +198,16 @@ int vtkSIMPLIRenderView::RequestData(vtkInformation* vtkNotUsed(request),
                            ? vtkPartitionedDataSetCollection::GetData(inputVector[1], 0)
                            : nullptr;
     this->UpdateProgress(0.0);
-    const simpli::MLI mli = simpli::vtkmli::collectionToMLI(mliInput, "render view: MLI input");
+    const simpli::mli::MLI mli =
+        simpli::vtkmli::collectionToMLI(mliInput, "render view: MLI input");
 
-    simpli::Camera camera = mli.camera;
+    simpli::scene::Camera camera = mli.camera;
     int frame = -1;
     switch (this->CameraMode) {
     case CAMERA_SCENE_VIEW: {
       if (!sceneInput)
         simpli::fail("render view: CameraMode is scene view but no scene is connected to input 1");
-      const std::vector<simpli::Camera> cams =
+      const std::vector<simpli::scene::Camera> cams =
           simpli::vtkscene::sceneCameras(sceneInput, "render view: scene input");
       if (this->ViewIndex >= static_cast<int>(cams.size()))
         simpli::fail("render view: ViewIndex ", this->ViewIndex, " is out of range (the scene has ",
@@ -231,18 +232,19 @@ int vtkSIMPLIRenderView::RequestData(vtkInformation* vtkNotUsed(request),
         camera.width = this->ImageSize[0];
         camera.height = this->ImageSize[1];
       }
-      simpli::validateMLICamera(camera, "render view: explicit camera (Intrinsics, Extrinsics)");
+      simpli::mli::validateMLICamera(camera,
+                                     "render view: explicit camera (Intrinsics, Extrinsics)");
       break;
     }
     case CAMERA_TRAJECTORY: {
-      simpli::TrajectoryOptions o;
-      o.kind = this->TrajectoryType == TRAJECTORY_ORBIT ? simpli::TrajectoryKind::Orbit
-                                                        : simpli::TrajectoryKind::Spiral;
+      simpli::scene::TrajectoryOptions o;
+      o.kind = this->TrajectoryType == TRAJECTORY_ORBIT ? simpli::scene::TrajectoryKind::Orbit
+                                                        : simpli::scene::TrajectoryKind::Spiral;
       o.frames = this->NumberOfFrames;
       o.radii = Eigen::Vector3d(this->TrajectoryRadii[0], this->TrajectoryRadii[1],
                                 this->TrajectoryRadii[2]);
       o.focusDepth = this->FocusDepth;
-      std::vector<simpli::Camera> cams;
+      std::vector<simpli::scene::Camera> cams;
       double near = 0, far = 0;
       if (sceneInput) {
         cams = simpli::vtkscene::sceneCameras(sceneInput, "render view: scene input");
@@ -251,7 +253,7 @@ int vtkSIMPLIRenderView::RequestData(vtkInformation* vtkNotUsed(request),
       }
       if (!(near > 0))
         depthRange(mli, near, far);
-      o = simpli::resolveTrajectory(o, mli.camera, cams, near, far);
+      o = simpli::scene::resolveTrajectory(o, mli.camera, cams, near, far);
       frame = this->FrameIndex;
       if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())) {
         const double t = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
@@ -261,7 +263,8 @@ int vtkSIMPLIRenderView::RequestData(vtkInformation* vtkNotUsed(request),
       if (frame >= this->NumberOfFrames)
         simpli::fail("render view: FrameIndex ", frame, " is out of range (NumberOfFrames ",
                      this->NumberOfFrames, ")");
-      camera = simpli::trajectoryCamera(mli.camera, o, static_cast<double>(frame) / o.frames);
+      camera =
+          simpli::scene::trajectoryCamera(mli.camera, o, static_cast<double>(frame) / o.frames);
       break;
     }
     default:
@@ -274,15 +277,15 @@ int vtkSIMPLIRenderView::RequestData(vtkInformation* vtkNotUsed(request),
     camera.width = W;
     camera.height = H;
 
-    simpli::RasterSettings settings;
+    simpli::raster::RasterSettings settings;
     settings.maxFragments = this->MaxFragments;
     settings.interpolation = this->Interpolation == PERSPECTIVE_CORRECT
-                                 ? simpli::RasterInterpolation::PerspectiveCorrect
-                                 : simpli::RasterInterpolation::ScreenLinear;
+                                 ? simpli::raster::RasterInterpolation::PerspectiveCorrect
+                                 : simpli::raster::RasterInterpolation::ScreenLinear;
     this->UpdateProgress(0.2);
     if (this->GetAbortExecute())
       return 1;
-    const simpli::RenderedLayers r = simpli::renderMLI(mli, camera, settings);
+    const simpli::raster::RenderedLayers r = simpli::raster::renderMLI(mli, camera, settings);
     const std::vector<float> colour = r.colour.toVectorF32();
     const std::vector<float> depth = r.depth.toVectorF32();
     const std::vector<float> opacity = r.opacity.toVectorF32();

@@ -21,7 +21,7 @@
 #include "vtkStringArray.h"
 
 #include "simpli/error.h"
-#include "simpli/model/scene.h"
+#include "simpli/model/scene/scene.h"
 
 #include <exception>
 
@@ -46,7 +46,8 @@ vtkSmartPointer<vtkStringArray> stringValue(const char* name, const std::string&
 // One polyline per camera: the base rectangle (image corners at depth `scale`) and the four
 // edges to the centre, drawn as c0 c1 c2 c3 c0 C c1 c2 C c3 (c1-c2 twice: one polyline cannot
 // trace the 8 edges without repeating one).
-void buildFrustums(const std::vector<simpli::Camera>& cameras, double scale, vtkPolyData* out) {
+void buildFrustums(const std::vector<simpli::scene::Camera>& cameras, double scale,
+                   vtkPolyData* out) {
   auto points = vtkSmartPointer<vtkPoints>::New();
   points->SetDataTypeToDouble();
   auto lines = vtkSmartPointer<vtkCellArray>::New();
@@ -54,7 +55,7 @@ void buildFrustums(const std::vector<simpli::Camera>& cameras, double scale, vtk
   viewIndex->SetName(simpli::vtkscene::kViewIndexArray);
   const double corners[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   for (std::size_t v = 0; v < cameras.size(); ++v) {
-    const simpli::Camera& cam = cameras[v];
+    const simpli::scene::Camera& cam = cameras[v];
     const vtkIdType base = points->GetNumberOfPoints();
     const Eigen::Vector3d C = cam.centre();
     points->InsertNextPoint(C.x(), C.y(), C.z());
@@ -97,7 +98,7 @@ int vtkSIMPLISceneReader::CanReadFile(const char* name) {
   if (!name || !*name)
     return 0;
   try {
-    simpli::detectSceneFormat(name);
+    simpli::scene::detectSceneFormat(name);
     return 1;
   } catch (const std::exception&) {
     return 0;
@@ -123,14 +124,14 @@ int vtkSIMPLISceneReader::RequestData(vtkInformation* vtkNotUsed(request),
   }
 
   try {
-    simpli::SceneReadOptions options;
+    simpli::scene::SceneReadOptions options;
     options.sizeMultiple = this->SizeMultiple;
     if (this->ImagesDirectory)
       options.imagesDir = this->ImagesDirectory;
     if (!this->Normalise)
-      options.normalisation.mode = simpli::NormalisationMode::None;
+      options.normalisation.mode = simpli::scene::NormalisationMode::None;
     this->UpdateProgress(0.0);
-    const simpli::Scene scene = simpli::readScene(this->FileName, options);
+    const simpli::scene::Scene scene = simpli::scene::readScene(this->FileName, options);
     // Reading and decoding the images is nearly all of the work.
     this->UpdateProgress(0.8);
     if (this->GetAbortExecute())
@@ -145,7 +146,7 @@ int vtkSIMPLISceneReader::RequestData(vtkInformation* vtkNotUsed(request),
         views->Initialize();
         return 1;
       }
-      const simpli::SceneView& view = scene.views[v];
+      const simpli::scene::SceneView& view = scene.views[v];
       auto image = vtkSmartPointer<vtkImageData>::New();
       simpli::vtkscene::imageToVTK(view.image, image);
       vtkFieldData* fd = image->GetFieldData();
@@ -166,7 +167,8 @@ int vtkSIMPLISceneReader::RequestData(vtkInformation* vtkNotUsed(request),
     scale->SetName(simpli::vtkscene::kNormalisationScaleArray);
     scale->InsertNextValue(scene.normalisation.scale);
     fd->AddArray(scale);
-    fd->AddArray(stringValue(simpli::vtkscene::kSceneFormatArray, simpli::toString(scene.format)));
+    fd->AddArray(
+        stringValue(simpli::vtkscene::kSceneFormatArray, simpli::scene::toString(scene.format)));
     fd->AddArray(intValue(simpli::vtkscene::kNumberOfViewsArray, static_cast<int>(scene.size())));
 
     buildFrustums(scene.cameras(), this->FrustumScale, frustums);

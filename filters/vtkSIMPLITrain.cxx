@@ -15,8 +15,8 @@
 
 #include "simpli/error.h"
 #include "simpli/model/network/loader.h"
-#include "simpli/model/training/train_config.h"
-#include "simpli/model/training/train_data.h"
+#include "simpli/model/training/config.h"
+#include "simpli/model/training/data.h"
 #include "simpli/model/training/trainer.h"
 
 #include <algorithm>
@@ -83,11 +83,11 @@ int vtkSIMPLITrain::RequestData(vtkInformation* vtkNotUsed(request),
       simpli::fail("ImageSize (", this->ImageSize[0], ", ", this->ImageSize[1],
                    "): give both width and height (> 0), or (0, 0) to keep the images' size");
 
-    std::unique_ptr<simpli::train::TrainingConfig> config;
+    std::unique_ptr<simpli::training::TrainingConfig> config;
     if (!str(this->Config).empty()) {
       try {
-        config = std::make_unique<simpli::train::TrainingConfig>(
-            simpli::train::resolveTrainingConfig(this->Config));
+        config = std::make_unique<simpli::training::TrainingConfig>(
+            simpli::training::resolveTrainingConfig(this->Config));
       } catch (const simpli::Error& e) {
         const std::string what = e.what();
         // Messages from resolveConfig already name the property.
@@ -103,7 +103,7 @@ int vtkSIMPLITrain::RequestData(vtkInformation* vtkNotUsed(request),
     simpli::vtkdevice::selectDevice(str(this->Device), "Device");
 
     // The table's columns; rows are appended by onStep.
-    const std::vector<std::string>& termNames = simpli::train::lossTermNames();
+    const std::vector<std::string>& termNames = simpli::training::lossTermNames();
     auto stepColumn = vtkSmartPointer<vtkIntArray>::New();
     stepColumn->SetName("step");
     std::vector<vtkSmartPointer<vtkDoubleArray>> termColumns;
@@ -116,7 +116,7 @@ int vtkSIMPLITrain::RequestData(vtkInformation* vtkNotUsed(request),
     auto messages = vtkSmartPointer<vtkStringArray>::New();
     messages->SetName("Messages");
 
-    simpli::train::TrainerOptions options;
+    simpli::training::TrainerOptions options;
     options.data = this->DataPath;
     options.runDir = this->RunDirectory;
     options.resume = this->Resume;
@@ -134,7 +134,7 @@ int vtkSIMPLITrain::RequestData(vtkInformation* vtkNotUsed(request),
       vtkDebugMacro(<< line);
     };
     int64_t totalSteps = 1;
-    options.onStep = [&](const simpli::train::StepReport& r) {
+    options.onStep = [&](const simpli::training::StepReport& r) {
       stepColumn->InsertNextValue(static_cast<int>(r.step));
       for (std::size_t i = 0; i < termColumns.size(); ++i)
         termColumns[i]->InsertNextValue(i < r.terms.size() ? r.terms[i].second : vtkMath::Nan());
@@ -147,9 +147,9 @@ int vtkSIMPLITrain::RequestData(vtkInformation* vtkNotUsed(request),
     };
 
     this->UpdateProgress(0.0);
-    simpli::train::Trainer trainer(config.get(), options);
+    simpli::training::Trainer trainer(config.get(), options);
     totalSteps = std::max<int64_t>(1, trainer.totalSteps());
-    const simpli::train::Trainer::RunResult result = trainer.run();
+    const simpli::training::Trainer::RunResult result = trainer.run();
 
     output->AddColumn(stepColumn);
     for (auto& column : termColumns)

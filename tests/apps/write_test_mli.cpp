@@ -3,7 +3,7 @@
 //   <dir>/replace_me             a valid lossless MLI that a --force conversion replaces
 //   <dir>/bad_meta               an MLI folder whose meta.json is cut off
 // <dir> is emptied first, so outputs of earlier runs (<dir>/out) do not survive.
-#include <simpli/model/mli_io.h>
+#include <simpli/model/mli/files.h>
 
 #include <cmath>
 #include <cstdio>
@@ -16,15 +16,15 @@ using namespace simpli;
 
 namespace {
 
-MLI testMLI() {
-  Camera cam;
+mli::MLI testMLI() {
+  scene::Camera cam;
   cam.fx = 0.9;
   cam.fy = 1.3;
   cam.cx = 0.5;
   cam.cy = 0.45;
   cam.width = 12;
   cam.height = 8;
-  MLI mli = MLI::allocate(cam, 2);
+  mli::MLI mli = mli::MLI::allocate(cam, 2);
   for (int k = 0; k < 2; ++k)
     for (int p = 0; p < 12 * 8; ++p) {
       mli.layers[k].depth[p] = static_cast<float>((k == 0 ? 10.0 : 3.0) + 0.01 * p);
@@ -45,11 +45,11 @@ int main(int argc, char** argv) {
     const fs::path out = argv[1];
     fs::remove_all(out);
     fs::create_directories(out / "out");
-    const MLI mli = testMLI();
-    writeMLI((out / "jpeg").string(), mli, MLIFormat::Jpeg);
-    writeMLI((out / "lossless").string(), mli, MLIFormat::Lossless);
-    writeMLI((out / "replace_me").string(), mli, MLIFormat::Lossless);
-    writeMLI((out / "bad_meta").string(), mli, MLIFormat::Jpeg);
+    const mli::MLI mli = testMLI();
+    mli::writeMLI((out / "jpeg").string(), mli, mli::MLIFormat::Jpeg);
+    mli::writeMLI((out / "lossless").string(), mli, mli::MLIFormat::Lossless);
+    mli::writeMLI((out / "replace_me").string(), mli, mli::MLIFormat::Lossless);
+    mli::writeMLI((out / "bad_meta").string(), mli, mli::MLIFormat::Jpeg);
     std::ofstream((out / "bad_meta" / "meta.json").string(), std::ios::trunc)
         << "{\"frame_size\": [8, 12], \"layer_depth_00\": [";
     return 0;

@@ -3,7 +3,7 @@
 //   <dir>/bad_npy, <dir>/bad_rotation, <dir>/distorted  bad input
 #include "scene_fixtures.h"
 
-#include <simpli/model/npy.h>
+#include <simpli/model/io/npy.h>
 
 #include <cstdio>
 #include <exception>
@@ -35,9 +35,9 @@ int main(int argc, char** argv) {
     // View 1's "right" axis stretched: not a rotation.
     test::writeLlffScene((out / "bad_rotation").string(), rig, 2.0, 50.0);
     const std::string rot = (out / "bad_rotation" / "poses_bounds.npy").string();
-    NpyArray a = readNpy(rot);
+    io::NpyArray a = io::readNpy(rot);
     a.data[17 + 1] *= 1.5; // right_x of view 1 (1 for the rig)
-    writeNpy(rot, a.data, a.shape);
+    io::writeNpy(rot, a.data, a.shape);
 
     // COLMAP camera with lens distortion.
     test::writeColmapScene((out / "distorted").string(), rig, {});

@@ -1,7 +1,7 @@
 #pragma once
 // Helpers shared by the model tests: error assertions and camera construction.
 #include <simpli/error.h>
-#include <simpli/model/camera.h>
+#include <simpli/model/scene/camera.h>
 
 #include <gtest/gtest.h>
 
@@ -30,8 +30,9 @@ template <typename F> std::string expectError(F&& f, std::initializer_list<std::
 }
 
 /// A camera at the world origin looking down +z (identity pose) with relative intrinsics.
-inline Camera pinholeCamera(int width, int height, double fx, double fy, double cx, double cy) {
-  Camera c;
+inline scene::Camera pinholeCamera(int width, int height, double fx, double fy, double cx,
+                                   double cy) {
+  scene::Camera c;
   c.width = width;
   c.height = height;
   c.fx = fx;

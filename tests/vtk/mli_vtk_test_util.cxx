@@ -14,8 +14,8 @@
 
 namespace simpli::vtktest {
 
-Camera testCamera(int W, int H) {
-  Camera c;
+scene::Camera testCamera(int W, int H) {
+  scene::Camera c;
   c.R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.3, 1.0, -0.2).normalized()).toRotationMatrix();
   c.t = Eigen::Vector3d(-0.6, 1.1, 1.7);
   c.fx = 0.87;
@@ -27,14 +27,14 @@ Camera testCamera(int W, int H) {
   return c;
 }
 
-MLI randomMLI(int L, int H, int W, unsigned seed) {
-  MLI mli = MLI::allocate(testCamera(W, H), L);
+mli::MLI randomMLI(int L, int H, int W, unsigned seed) {
+  mli::MLI mli = mli::MLI::allocate(testCamera(W, H), L);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   for (int k = 0; k < L; ++k) {
     const float d = 20.0f / static_cast<float>(k + 1);
     std::uniform_real_distribution<float> depth(d, 2.0f * d);
-    MLILayer& layer = mli.layers[static_cast<std::size_t>(k)];
+    mli::MLILayer& layer = mli.layers[static_cast<std::size_t>(k)];
     for (float& v : layer.depth)
       v = depth(rng);
     for (float& v : layer.rgba)

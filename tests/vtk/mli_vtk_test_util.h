@@ -8,17 +8,17 @@
 #include <vtkAlgorithm.h>
 #include <vtkCommand.h>
 
-#include "simpli/model/mli.h"
+#include "simpli/model/mli/mli.h"
 
 namespace simpli::vtktest {
 
 namespace fs = std::filesystem;
 
 /// A rotated, translated camera with an off-centre principal point.
-Camera testCamera(int W, int H);
+scene::Camera testCamera(int W, int H);
 
 /// L layers, back layers farther; random RGBA in [0, 1] and depths in [d(k), 2 d(k)].
-MLI randomMLI(int L, int H, int W, unsigned seed);
+mli::MLI randomMLI(int L, int H, int W, unsigned seed);
 
 /// A fresh empty folder under the system temp folder, removed with its contents at the end.
 class TempDir {

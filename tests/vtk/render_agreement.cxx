@@ -36,8 +36,8 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
 
-#include "simpli/model/mli_io.h"
-#include "simpli/model/rasterizer_mli.h"
+#include "simpli/model/mli/files.h"
+#include "simpli/model/raster/render_mli.h"
 
 #include <Eigen/Geometry>
 #include <X11/Xlib.h>
@@ -65,8 +65,8 @@ constexpr int kW = 16, kH = 12; // MLI grid
 // ~ 9) with a colour gradient, a middle layer (z ~ 4.5, wavy) with smoothly varying alpha, a near
 // layer (z ~ 2.6) that is transparent in a band. Smooth colours: the comparison measures the
 // renderers, not aliasing.
-MLI agreementMLI() {
-  Camera ref;
+mli::MLI agreementMLI() {
+  scene::Camera ref;
   ref.R = Eigen::AngleAxisd(0.05, Eigen::Vector3d(0.0, 1.0, 0.2).normalized()).toRotationMatrix();
   ref.t = Eigen::Vector3d(0.1, -0.05, 0.2);
   ref.fx = 0.8;
@@ -75,7 +75,7 @@ MLI agreementMLI() {
   ref.cy = 0.5;
   ref.width = kW;
   ref.height = kH;
-  MLI mli = MLI::allocate(ref, 3);
+  mli::MLI mli = mli::MLI::allocate(ref, 3);
   for (int i = 0; i < kH; ++i)
     for (int j = 0; j < kW; ++j) {
       const std::size_t p = static_cast<std::size_t>(i) * kW + j;
@@ -102,7 +102,7 @@ MLI agreementMLI() {
   return mli;
 }
 
-void setVTKCamera(vtkCamera* vc, const Camera& c) {
+void setVTKCamera(vtkCamera* vc, const scene::Camera& c) {
   const Eigen::Vector3d C = c.centre();
   const Eigen::Vector3d forward = c.R.row(2).transpose(), down = c.R.row(1).transpose();
   const Eigen::Vector3d F = C + forward;
@@ -115,7 +115,7 @@ void setVTKCamera(vtkCamera* vc, const Camera& c) {
 }
 
 // VTK render of the layers over `background`, as RGB rows top to bottom in [0, 1].
-std::vector<double> renderVTK(vtkPartitionedDataSetCollection* layers, const Camera& cam,
+std::vector<double> renderVTK(vtkPartitionedDataSetCollection* layers, const scene::Camera& cam,
                               double background, const std::string& png) {
   vtkNew<vtkRenderer> renderer;
   renderer->SetBackground(background, background, background);
@@ -174,7 +174,7 @@ std::vector<double> renderVTK(vtkPartitionedDataSetCollection* layers, const Cam
 }
 
 // Writes planar [3, H, W] colour in [0, 1] (row 0 = top) as an 8-bit PNG.
-void writeRGB(const std::vector<float>& colour, const Camera& cam, const std::string& png) {
+void writeRGB(const std::vector<float>& colour, const scene::Camera& cam, const std::string& png) {
   const std::size_t n = static_cast<std::size_t>(cam.width) * cam.height;
   vtkNew<vtkImageData> image;
   image->SetDimensions(cam.width, cam.height, 1);
@@ -228,8 +228,8 @@ int main(int argc, char** argv) {
   try {
     const fs::path out = argv[1];
     fs::create_directories(out);
-    const MLI mli = agreementMLI();
-    writeMLI((out / "agreement_mli").string(), mli, MLIFormat::Lossless);
+    const mli::MLI mli = agreementMLI();
+    mli::writeMLI((out / "agreement_mli").string(), mli, mli::MLIFormat::Lossless);
     vtkNew<vtkMLIReader> reader;
     reader->SetFileName((out / "agreement_mli").c_str());
     reader->Update();
@@ -241,7 +241,7 @@ int main(int argc, char** argv) {
     }
 
     // Target: moved and turned a little, off-centre principal point, square pixels.
-    Camera cam = mli.camera;
+    scene::Camera cam = mli.camera;
     const Eigen::Matrix3d turn =
         Eigen::AngleAxisd(0.06, Eigen::Vector3d(0.3, -1.0, 0.1).normalized()).toRotationMatrix();
     cam.R = turn * mli.camera.R;
@@ -258,18 +258,18 @@ int main(int argc, char** argv) {
     const std::vector<double> white = renderVTK(layers, cam, 1.0, (out / "vtk_white.png").string());
 
     double best = 0.0;
-    for (RasterInterpolation interp :
-         {RasterInterpolation::PerspectiveCorrect, RasterInterpolation::ScreenLinear}) {
-      RasterSettings s;
+    for (raster::RasterInterpolation interp : {raster::RasterInterpolation::PerspectiveCorrect,
+                                               raster::RasterInterpolation::ScreenLinear}) {
+      raster::RasterSettings s;
       s.interpolation = interp;
-      const RenderedLayers r = renderMLI(mli, cam, s);
+      const raster::RenderedLayers r = raster::renderMLI(mli, cam, s);
       const std::vector<float> colour = r.colour.toVectorF32(), opacity = r.opacity.toVectorF32();
       const std::size_t n = static_cast<std::size_t>(cam.width) * cam.height;
-      writeRGB(
-          colour, cam,
-          (out / (interp == RasterInterpolation::PerspectiveCorrect ? "opencl_perspective.png"
-                                                                    : "opencl_screen_linear.png"))
-              .string());
+      writeRGB(colour, cam,
+               (out / (interp == raster::RasterInterpolation::PerspectiveCorrect
+                           ? "opencl_perspective.png"
+                           : "opencl_screen_linear.png"))
+                   .string());
       double se = 0.0, maxErr = 0.0;
       std::size_t count = 0;
       for (std::size_t p = 0; p < n; ++p) {
@@ -287,7 +287,7 @@ int main(int argc, char** argv) {
       }
       const double mse = count ? se / (3.0 * count) : 1.0;
       const double psnr = 10.0 * std::log10(1.0 / std::max(mse, 1e-20));
-      const bool perspective = interp == RasterInterpolation::PerspectiveCorrect;
+      const bool perspective = interp == raster::RasterInterpolation::PerspectiveCorrect;
       std::printf("%s vs VTK OpenGL: PSNR %.2f dB over %zu of %zu pixels (%.1f %%), max error "
                   "%.4f\n",
                   perspective ? "perspective-correct" : "screen-linear      ", psnr, count, n,

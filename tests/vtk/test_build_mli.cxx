@@ -34,9 +34,9 @@
 #include "simpli/error.h"
 #include "simpli/model/generator/generator.h"
 #include "simpli/model/generator/scene_input.h"
-#include "simpli/model/mli.h"
+#include "simpli/model/mli/mli.h"
 #include "simpli/model/network/loader.h"
-#include "simpli/model/scene.h"
+#include "simpli/model/scene/scene.h"
 #include "simpli/ocl/autograd.h"
 
 namespace simpli::vtktest {
@@ -63,24 +63,24 @@ vtkPartitionedDataSetCollection* outputOf(vtkAlgorithm* f) {
 
 // What the filter must reproduce: the generator run directly (same seed, same views).
 struct Direct {
-  GeneratorOutput output;
-  GeneratorInput input;
-  MLI mli;
+  generator::GeneratorOutput output;
+  generator::GeneratorInput input;
+  mli::MLI mli;
 };
 
 const Direct& direct() {
   static const Direct d = [] {
     Direct out;
-    const Scene scene = readScene(kScene);
-    const net::LoadedNetwork loaded = net::loadNetwork("tiny", "", uint64_t(kSeed));
-    SceneInputOptions o;
+    const scene::Scene scene = scene::readScene(kScene);
+    const network::LoadedNetwork loaded = network::loadNetwork("tiny", "", uint64_t(kSeed));
+    generator::SceneInputOptions o;
     o.views = {0, 6};
-    out.input = sceneInput(scene, o);
-    GeneratorOptions options;
+    out.input = generator::sceneInput(scene, o);
+    generator::GeneratorOptions options;
     options.corrections = kCorrections;
     ocl::NoGradGuard noGrad;
-    out.output = Generator(*loaded.network).forward(out.input, options);
-    out.mli = toMLI(out.output, out.input.reference);
+    out.output = generator::Generator(*loaded.network).forward(out.input, options);
+    out.mli = generator::toMLI(out.output, out.input.reference);
     return out;
   }();
   return d;
@@ -92,8 +92,8 @@ vtkPolyData* layer(vtkPartitionedDataSetCollection* c, unsigned int i) {
 }
 
 // Largest |difference| between layer `pd` and layer k of `mli` (Color, Alpha, Depth).
-double layerDifference(vtkPolyData* pd, const MLI& mli, int k) {
-  const MLILayer& want = mli.layers[static_cast<std::size_t>(k)];
+double layerDifference(vtkPolyData* pd, const mli::MLI& mli, int k) {
+  const mli::MLILayer& want = mli.layers[static_cast<std::size_t>(k)];
   auto* color = vtkFloatArray::SafeDownCast(pd->GetPointData()->GetArray("Color"));
   auto* alpha = vtkFloatArray::SafeDownCast(pd->GetPointData()->GetArray("Alpha"));
   auto* depth = vtkFloatArray::SafeDownCast(pd->GetPointData()->GetArray("Depth"));
@@ -121,11 +121,11 @@ std::vector<std::string> stringValues(vtkFieldData* fd, const char* name) {
 // --- vtkToScene ----------------------------------------------------------------------------------
 
 TEST(SceneToVTK, RoundTripsTheSceneReader) {
-  const Scene want = readScene(kScene);
+  const scene::Scene want = scene::readScene(kScene);
   vtkNew<vtkSIMPLISceneReader> reader;
   reader->SetFileName(kScene.c_str());
   reader->Update();
-  const Scene got = vtkscene::vtkToScene(outputOf(reader), "test scene");
+  const scene::Scene got = vtkscene::vtkToScene(outputOf(reader), "test scene");
   ASSERT_EQ(got.size(), want.size());
   EXPECT_EQ(got.near, want.near);
   EXPECT_EQ(got.far, want.far);
@@ -135,7 +135,7 @@ TEST(SceneToVTK, RoundTripsTheSceneReader) {
     SCOPED_TRACE("view " + std::to_string(v));
     EXPECT_EQ(got.views[v].name, want.views[v].name);
     EXPECT_EQ(got.views[v].imagePath, want.views[v].imagePath);
-    const Camera &a = got.views[v].camera, &b = want.views[v].camera;
+    const scene::Camera &a = got.views[v].camera, &b = want.views[v].camera;
     EXPECT_EQ(a.R, b.R);
     EXPECT_EQ(a.t, b.t);
     EXPECT_EQ(a.fx, b.fx);
@@ -240,9 +240,9 @@ TEST(BuildMLI, MatchesTheGeneratorRunDirectly) {
 
 TEST(BuildMLI, AutoLayersAndMeshOptionsReuseTheForwardPass) {
   // A threshold between the layers' largest alphas drops some layers and keeps others.
-  const MLI& mli = direct().mli;
+  const mli::MLI& mli = direct().mli;
   std::vector<float> maxAlpha;
-  for (const MLILayer& l : mli.layers) {
+  for (const mli::MLILayer& l : mli.layers) {
     float m = 0;
     for (std::size_t p = 0; p < mli.texels(); ++p)
       m = std::max(m, l.rgba[4 * p + 3]);
@@ -256,9 +256,9 @@ TEST(BuildMLI, AutoLayersAndMeshOptionsReuseTheForwardPass) {
   for (int k = 0; k < mli.numLayers(); ++k)
     if (maxAlpha[std::size_t(k)] >= threshold)
       kept.push_back(k);
-  ASSERT_EQ(
-      int(kept.size()),
-      toMLI(direct().output, direct().input.reference, static_cast<float>(threshold)).numLayers());
+  ASSERT_EQ(int(kept.size()), generator::toMLI(direct().output, direct().input.reference,
+                                               static_cast<float>(threshold))
+                                  .numLayers());
 
   vtkNew<vtkSIMPLIBuildMLI> f;
   configure(f);
@@ -332,7 +332,7 @@ TEST(BuildMLI, FewerCorrectionsAndTheSceneDepthRange) {
   f->SetCorrectionSteps(kCorrections);
   f->SetDepthRange(vtkSIMPLIBuildMLI::DEPTH_RANGE_SCENE);
   ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();
-  const Scene scene = readScene(kScene);
+  const scene::Scene scene = scene::readScene(kScene);
   double lo = HUGE_VAL, hi = 0;
   for (unsigned int k = 0; k < outputOf(f)->GetNumberOfPartitionedDataSets(); ++k) {
     double r[2];

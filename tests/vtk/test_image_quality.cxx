@@ -22,7 +22,7 @@
 #include <random>
 
 #include "mli_vtk_test_util.h"
-#include "simpli/model/metrics.h"
+#include "simpli/model/metrics/image_quality.h"
 
 namespace simpli::vtktest {
 namespace {
@@ -50,12 +50,12 @@ vtkSmartPointer<vtkImageData> makeImage(int w, int h, unsigned seed, int compone
 }
 
 // The same image as a simpli::MetricImage in [0, 1] (row 0 at the top), first 3 channels.
-MetricImage asMetric(vtkImageData* img) {
+metrics::MetricImage asMetric(vtkImageData* img) {
   int d[3];
   img->GetDimensions(d);
   vtkDataArray* a = img->GetPointData()->GetScalars();
   const int ch = std::min(3, a->GetNumberOfComponents());
-  MetricImage m(d[0], d[1], ch);
+  metrics::MetricImage m(d[0], d[1], ch);
   for (int y = 0; y < d[1]; ++y)
     for (int x = 0; x < d[0]; ++x)
       for (int c = 0; c < ch; ++c)
@@ -99,7 +99,8 @@ TEST(ImageQuality, OnePairMatchesTheModelMetrics) {
   EXPECT_EQ(views->GetValue(0), "0");
   EXPECT_EQ(views->GetValue(1), "mean");
   EXPECT_EQ(views->GetValue(2), "std");
-  const ImageQuality expected = evaluateImageQuality(asMetric(a), asMetric(b), 0.9);
+  const metrics::ImageQuality expected =
+      metrics::evaluateImageQuality(asMetric(a), asMetric(b), 0.9);
   EXPECT_DOUBLE_EQ(cell(r.table, "PSNR", 0), expected.psnr);
   EXPECT_DOUBLE_EQ(cell(r.table, "SSIM", 0), expected.ssim);
   EXPECT_GT(expected.ssim, 0.1);
@@ -152,12 +153,12 @@ TEST(ImageQuality, OnlyTheCentralCropCounts) {
 TEST(ImageQuality, SeveralViewsInCompositeInputs) {
   vtkNew<vtkPartitionedDataSet> rendered;
   vtkNew<vtkMultiBlockDataSet> truth; // different composite types pair by leaf order
-  std::vector<ImageQuality> expected;
+  std::vector<metrics::ImageQuality> expected;
   for (unsigned v = 0; v < 3; ++v) {
     auto r = makeImage(30 + 2 * v, 28, 10 + v), g = makeImage(30 + 2 * v, 28, 20 + v);
     rendered->SetPartition(v, r);
     truth->SetBlock(v, g);
-    expected.push_back(evaluateImageQuality(asMetric(r), asMetric(g)));
+    expected.push_back(metrics::evaluateImageQuality(asMetric(r), asMetric(g)));
   }
   Result r = run(rendered, truth);
   ASSERT_EQ(r.rc, 1) << r.errors->all();
@@ -175,7 +176,7 @@ TEST(ImageQuality, SeveralViewsInCompositeInputs) {
     var += (p - mean) * (p - mean) / 3.0;
   EXPECT_NEAR(cell(r.table, "PSNR", 3), mean, 1e-12);
   EXPECT_NEAR(cell(r.table, "PSNR", 4), std::sqrt(var), 1e-12);
-  EXPECT_NEAR(cell(r.table, "SSIM", 3), meanAndStd(ssims).mean, 1e-15);
+  EXPECT_NEAR(cell(r.table, "SSIM", 3), metrics::meanAndStd(ssims).mean, 1e-15);
 }
 
 TEST(ImageQuality, FloatDataAndAlphaChannel) {

@@ -29,8 +29,8 @@
 #include <vector>
 
 #include "mli_vtk_test_util.h"
-#include "simpli/model/mli_io.h"
-#include "simpli/model/mli_mesh.h"
+#include "simpli/model/mli/files.h"
+#include "simpli/model/mli/mesh.h"
 
 namespace simpli::vtktest {
 namespace {
@@ -42,7 +42,7 @@ vtkPolyData* layerAt(vtkPartitionedDataSetCollection* c, unsigned int i) {
   return pds ? vtkPolyData::SafeDownCast(pds->GetPartition(0)) : nullptr;
 }
 
-void expectSameMLI(const MLI& a, const MLI& b) {
+void expectSameMLI(const mli::MLI& a, const mli::MLI& b) {
   ASSERT_EQ(a.numLayers(), b.numLayers());
   EXPECT_EQ(a.camera.R, b.camera.R);
   EXPECT_EQ(a.camera.t, b.camera.t);
@@ -70,8 +70,8 @@ vtkSmartPointer<vtkPartitionedDataSetCollection> readCollection(const std::strin
 
 TEST(MLIReader, LayoutOfTheLosslessForm) {
   TempDir dir;
-  const MLI mli = randomMLI(kL, kH, kW, 1);
-  writeMLI(dir / "scene", mli, MLIFormat::Lossless);
+  const mli::MLI mli = randomMLI(kL, kH, kW, 1);
+  mli::writeMLI(dir / "scene", mli, mli::MLIFormat::Lossless);
   auto out = readCollection(dir / "scene");
   ASSERT_EQ(out->GetNumberOfPartitionedDataSets(), static_cast<unsigned>(kL));
 
@@ -129,7 +129,7 @@ TEST(MLIReader, LayoutOfTheLosslessForm) {
     auto* index = vtkIntArray::SafeDownCast(pd->GetFieldData()->GetArray("LayerIndex"));
     ASSERT_NE(index, nullptr);
     EXPECT_EQ(index->GetValue(0), k);
-    const MLILayer& layer = mli.layers[k];
+    const mli::MLILayer& layer = mli.layers[k];
     for (int i = 0; i < kH; ++i)
       for (int j = 0; j < kW; ++j) {
         const vtkIdType b = i * kW + j;
@@ -143,7 +143,7 @@ TEST(MLIReader, LayoutOfTheLosslessForm) {
         EXPECT_FLOAT_EQ(tc->GetTypedComponent(b, 0), j / float(kW - 1));
         EXPECT_FLOAT_EQ(tc->GetTypedComponent(b, 1), 1.0f - i / float(kH - 1));
         // World position: the reference back-projection of texel (i, j) at its depth.
-        const Eigen::Vector3d X = mliVertex(mli.camera, i, j, layer.depth[b]);
+        const Eigen::Vector3d X = mli::mliVertex(mli.camera, i, j, layer.depth[b]);
         double got[3];
         pd->GetPoint(b, got);
         for (int c = 0; c < 3; ++c)
@@ -152,7 +152,7 @@ TEST(MLIReader, LayoutOfTheLosslessForm) {
         EXPECT_NEAR(mli.camera.depth(Eigen::Vector3d(got[0], got[1], got[2])), layer.depth[b],
                     1e-4 * layer.depth[b]);
       }
-    // The first quad's triangles, as mli_mesh.h specifies.
+    // The first quad's triangles, as mli/mesh.h specifies.
     vtkNew<vtkIdList> ids;
     pd->GetPolys()->GetCellAtId(0, ids);
     EXPECT_EQ(ids->GetId(0), 0);
@@ -163,9 +163,9 @@ TEST(MLIReader, LayoutOfTheLosslessForm) {
 
 TEST(MLIReader, AcceptsMetaJsonAndDetectsTheForm) {
   TempDir dir;
-  const MLI mli = randomMLI(2, 4, 6, 2);
-  writeMLI(dir / "lossless", mli, MLIFormat::Lossless);
-  writeMLI(dir / "jpeg", mli, MLIFormat::Jpeg);
+  const mli::MLI mli = randomMLI(2, 4, 6, 2);
+  mli::writeMLI(dir / "lossless", mli, mli::MLIFormat::Lossless);
+  mli::writeMLI(dir / "jpeg", mli, mli::MLIFormat::Jpeg);
   vtkNew<vtkMLIReader> reader;
   EXPECT_EQ(reader->CanReadFile((dir / "lossless").c_str()), 1);
   EXPECT_EQ(reader->CanReadFile((dir / "jpeg/meta.json").c_str()), 1);
@@ -181,13 +181,14 @@ TEST(MLIReader, AcceptsMetaJsonAndDetectsTheForm) {
 
 TEST(MLIReader, JpegFormMatchesTheModelReader) {
   TempDir dir;
-  const MLI mli = randomMLI(2, 9, 11, 3);
-  writeMLI(dir / "jpeg", mli, MLIFormat::Jpeg);
+  const mli::MLI mli = randomMLI(2, 9, 11, 3);
+  mli::writeMLI(dir / "jpeg", mli, mli::MLIFormat::Jpeg);
   for (int decoding : {vtkMLIReader::DEPTH_VIEWER, vtkMLIReader::DEPTH_BIN_CENTRE}) {
-    MLIReadOptions options;
-    options.depthDecoding = decoding == vtkMLIReader::DEPTH_VIEWER ? MLIDepthDecoding::Viewer
-                                                                   : MLIDepthDecoding::BinCentre;
-    const MLI expected = readMLI(dir / "jpeg", options);
+    mli::MLIReadOptions options;
+    options.depthDecoding = decoding == vtkMLIReader::DEPTH_VIEWER
+                                ? mli::MLIDepthDecoding::Viewer
+                                : mli::MLIDepthDecoding::BinCentre;
+    const mli::MLI expected = mli::readMLI(dir / "jpeg", options);
     vtkNew<vtkMLIReader> reader;
     reader->SetFileName((dir / "jpeg").c_str());
     reader->SetDepthDecoding(decoding);
@@ -214,8 +215,8 @@ TEST(MLIReader, JpegFormMatchesTheModelReader) {
 
 TEST(MLIWriter, LosslessRoundTripIsExact) {
   TempDir dir;
-  const MLI mli = randomMLI(kL, kH, kW, 4);
-  writeMLI(dir / "in", mli, MLIFormat::Lossless);
+  const mli::MLI mli = randomMLI(kL, kH, kW, 4);
+  mli::writeMLI(dir / "in", mli, mli::MLIFormat::Lossless);
   vtkNew<vtkMLIReader> reader;
   reader->SetFileName((dir / "in").c_str());
   vtkNew<vtkMLIWriter> writer;
@@ -223,23 +224,23 @@ TEST(MLIWriter, LosslessRoundTripIsExact) {
   writer->SetFileName((dir / "out").c_str());
   writer->SetFormatToLossless();
   ASSERT_EQ(writer->Write(), 1);
-  EXPECT_EQ(detectMLIFormat(dir / "out"), MLIFormat::Lossless);
-  expectSameMLI(readMLI(dir / "out"), mli);
+  EXPECT_EQ(mli::detectMLIFormat(dir / "out"), mli::MLIFormat::Lossless);
+  expectSameMLI(mli::readMLI(dir / "out"), mli);
   // Only the finished folder, no temporary left beside it.
   EXPECT_EQ(listDir(dir.path()), (std::vector<std::string>{"in", "out"}));
 
   // Replacing the existing MLI with a JPEG one; its content is what the model writer makes.
   writer->SetFormatToJpeg();
   ASSERT_EQ(writer->Write(), 1);
-  EXPECT_EQ(detectMLIFormat(dir / "out"), MLIFormat::Jpeg);
-  writeMLI(dir / "direct", mli, MLIFormat::Jpeg);
-  expectSameMLI(readMLI(dir / "out"), readMLI(dir / "direct"));
+  EXPECT_EQ(mli::detectMLIFormat(dir / "out"), mli::MLIFormat::Jpeg);
+  mli::writeMLI(dir / "direct", mli, mli::MLIFormat::Jpeg);
+  expectSameMLI(mli::readMLI(dir / "out"), mli::readMLI(dir / "direct"));
 }
 
 TEST(MLIWriter, SkippedLayersAndDroppedTrianglesStillWrite) {
   // Layer 1 fully transparent, layer 0 transparent on its left half.
   TempDir dir;
-  MLI mli = randomMLI(3, 6, 8, 5);
+  mli::MLI mli = randomMLI(3, 6, 8, 5);
   for (int i = 0; i < 6; ++i)
     for (int j = 0; j < 8; ++j) {
       mli.layers[1].rgba[4 * (i * 8 + j) + 3] = 0.0f;
@@ -248,7 +249,7 @@ TEST(MLIWriter, SkippedLayersAndDroppedTrianglesStillWrite) {
       else
         mli.layers[0].rgba[4 * (i * 8 + j) + 3] = 0.5f;
     }
-  writeMLI(dir / "in", mli, MLIFormat::Lossless);
+  mli::writeMLI(dir / "in", mli, mli::MLIFormat::Lossless);
   vtkNew<vtkMLIReader> reader;
   reader->SetFileName((dir / "in").c_str());
   reader->SkipEmptyLayersOn();
@@ -277,7 +278,7 @@ TEST(MLIWriter, SkippedLayersAndDroppedTrianglesStillWrite) {
   writer->SetFileName((dir / "out").c_str());
   writer->SetFormat(vtkMLIWriter::FORMAT_LOSSLESS);
   ASSERT_EQ(writer->Write(), 1);
-  const MLI back = readMLI(dir / "out");
+  const mli::MLI back = mli::readMLI(dir / "out");
   ASSERT_EQ(back.numLayers(), 2);
   EXPECT_EQ(back.layers[0].rgba, mli.layers[0].rgba);
   EXPECT_EQ(back.layers[1].depth, mli.layers[2].depth);
@@ -285,7 +286,7 @@ TEST(MLIWriter, SkippedLayersAndDroppedTrianglesStillWrite) {
 
 TEST(MLIReader, AbortLeavesAnEmptyOutput) {
   TempDir dir;
-  writeMLI(dir / "in", randomMLI(4, 4, 4, 6), MLIFormat::Lossless);
+  mli::writeMLI(dir / "in", randomMLI(4, 4, 4, 6), mli::MLIFormat::Lossless);
   vtkNew<vtkMLIReader> reader;
   reader->SetFileName((dir / "in").c_str());
   class Abort : public vtkCommand {
@@ -308,7 +309,9 @@ TEST(MLIReader, AbortLeavesAnEmptyOutput) {
 
 class MLIReaderErrors : public ::testing::Test {
 protected:
-  void SetUp() override { writeMLI(dir_ / "scene", randomMLI(2, 4, 5, 7), MLIFormat::Lossless); }
+  void SetUp() override {
+    mli::writeMLI(dir_ / "scene", randomMLI(2, 4, 5, 7), mli::MLIFormat::Lossless);
+  }
 
   // Reads `path`; expects a failed request, an error naming all of `parts`, an empty output.
   void expectFailure(const std::string& path, const std::vector<std::string>& parts) {
@@ -360,7 +363,7 @@ TEST_F(MLIReaderErrors, MissingOrBrokenLayerFile) {
 class MLIWriterErrors : public ::testing::Test {
 protected:
   void SetUp() override {
-    writeMLI(dir_ / "in", randomMLI(2, 4, 5, 8), MLIFormat::Lossless);
+    mli::writeMLI(dir_ / "in", randomMLI(2, 4, 5, 8), mli::MLIFormat::Lossless);
     vtkNew<vtkMLIReader> reader;
     reader->SetFileName((dir_ / "in").c_str());
     reader->Update();
@@ -408,7 +411,7 @@ TEST_F(MLIWriterErrors, WrongComponentCount) {
 TEST_F(MLIWriterErrors, InconsistentLayerSize) {
   vtkNew<vtkMLIReader> other;
   TempDir d;
-  writeMLI(d / "bigger", randomMLI(1, 6, 5, 9), MLIFormat::Lossless);
+  mli::writeMLI(d / "bigger", randomMLI(1, 6, 5, 9), mli::MLIFormat::Lossless);
   other->SetFileName((d / "bigger").c_str());
   other->Update();
   collection_->SetPartition(1, 0, layerAt(other->GetOutput(), 0));

@@ -32,11 +32,11 @@
 #include <vector>
 
 #include "mli_vtk_test_util.h"
-#include "simpli/model/mli_io.h"
-#include "simpli/model/rasterizer_mli.h"
-#include "simpli/model/reference_camera.h"
-#include "simpli/model/scene.h"
-#include "simpli/model/trajectory.h"
+#include "simpli/model/mli/files.h"
+#include "simpli/model/raster/render_mli.h"
+#include "simpli/model/scene/reference_camera.h"
+#include "simpli/model/scene/scene.h"
+#include "simpli/model/scene/trajectory.h"
 
 namespace simpli::vtktest {
 namespace {
@@ -48,8 +48,8 @@ vtkImageData* viewImage(vtkPartitionedDataSetCollection* c, unsigned int i) {
   return pds ? vtkImageData::SafeDownCast(pds->GetPartition(0)) : nullptr;
 }
 
-Camera fieldCamera(vtkFieldData* fd) {
-  Camera c;
+scene::Camera fieldCamera(vtkFieldData* fd) {
+  scene::Camera c;
   double k[4], e[12];
   fd->GetArray("CameraIntrinsics")->GetTuple(0, k);
   fd->GetArray("CameraExtrinsics")->GetTuple(0, e);
@@ -70,7 +70,7 @@ Camera fieldCamera(vtkFieldData* fd) {
 // --- scene reader ------------------------------------------------------------------------------
 
 TEST(SceneReader, ReadsTheSyntheticScene) {
-  const Scene scene = readScene(kScene);
+  const scene::Scene scene = scene::readScene(kScene);
   vtkNew<vtkSIMPLISceneReader> reader;
   EXPECT_EQ(reader->CanReadFile(kScene.c_str()), 1);
   EXPECT_EQ(reader->CanReadFile((kScene + "/no_such").c_str()), 0);
@@ -94,15 +94,15 @@ TEST(SceneReader, ReadsTheSyntheticScene) {
     EXPECT_STREQ(rgb->GetName(), "RGB");
     EXPECT_EQ(rgb->GetNumberOfComponents(), 3);
     // Pixels as the model reads them: top-left of the image = VTK row H-1; a middle pixel.
-    const Image& img = scene.views[v].image;
+    const io::Image& img = scene.views[v].image;
     for (auto [x, y] : {std::pair{0, 0}, std::pair{100, 37}, std::pair{191, 127}})
       for (int c = 0; c < 3; ++c)
         EXPECT_EQ(rgb->GetTypedComponent((127 - y) * 192 + x, c),
                   std::lround((img.at(c, y, x) + 1.0) * 127.5))
             << "view " << v << " pixel " << x << "," << y;
     // The camera, exactly.
-    const Camera got = fieldCamera(image->GetFieldData());
-    const Camera& want = scene.views[v].camera;
+    const scene::Camera got = fieldCamera(image->GetFieldData());
+    const scene::Camera& want = scene.views[v].camera;
     EXPECT_EQ(got.R, want.R);
     EXPECT_EQ(got.t, want.t);
     EXPECT_EQ(got.fx, want.fx);
@@ -128,7 +128,7 @@ TEST(SceneReader, ReadsTheSyntheticScene) {
   ASSERT_NE(viewIndex, nullptr);
   for (int v = 0; v < 12; ++v) {
     EXPECT_EQ(viewIndex->GetComponent(v, 0), v);
-    const Camera& cam = scene.views[static_cast<std::size_t>(v)].camera;
+    const scene::Camera& cam = scene.views[static_cast<std::size_t>(v)].camera;
     double p[3];
     frustums->GetPoint(5 * v, p);
     EXPECT_LT((Eigen::Vector3d(p[0], p[1], p[2]) - cam.centre()).norm(), 1e-12);
@@ -212,13 +212,13 @@ TEST(SceneReader, AbortLeavesEmptyOutputs) {
 
 // Two fronto-parallel layers in an identity reference camera: far (z = 4) opaque blue, near
 // (z = 2) red with alpha 0.5 everywhere.
-MLI twoPlanes(int W, int H) {
-  Camera cam;
+mli::MLI twoPlanes(int W, int H) {
+  scene::Camera cam;
   cam.fx = 0.8;
   cam.fy = 0.8 * W / H;
   cam.width = W;
   cam.height = H;
-  MLI mli = MLI::allocate(cam, 2);
+  mli::MLI mli = mli::MLI::allocate(cam, 2);
   for (std::size_t p = 0; p < mli.texels(); ++p) {
     mli.layers[0].depth[p] = 4.0f;
     mli.layers[1].depth[p] = 2.0f;
@@ -235,8 +235,8 @@ MLI twoPlanes(int W, int H) {
 struct MLISource {
   TempDir dir;
   vtkNew<vtkMLIReader> reader;
-  explicit MLISource(const MLI& mli) {
-    writeMLI(dir / "mli", mli, MLIFormat::Lossless);
+  explicit MLISource(const mli::MLI& mli) {
+    mli::writeMLI(dir / "mli", mli, mli::MLIFormat::Lossless);
     reader->SetFileName((dir / "mli").c_str());
   }
 };
@@ -248,11 +248,11 @@ vtkImageData* render(vtkSIMPLIRenderView* r) {
 }
 
 // The filter's output equals renderMLI's (colour rounded to 8 bits, rows flipped).
-void expectMatchesModel(vtkImageData* image, const MLI& mli, const Camera& cam,
-                        RasterInterpolation interpolation) {
-  RasterSettings s;
+void expectMatchesModel(vtkImageData* image, const mli::MLI& mli, const scene::Camera& cam,
+                        raster::RasterInterpolation interpolation) {
+  raster::RasterSettings s;
   s.interpolation = interpolation;
-  const RenderedLayers r = renderMLI(mli, cam, s);
+  const raster::RenderedLayers r = raster::renderMLI(mli, cam, s);
   const std::vector<float> colour = r.colour.toVectorF32(), depth = r.depth.toVectorF32();
   int dims[3];
   image->GetDimensions(dims);
@@ -274,7 +274,7 @@ void expectMatchesModel(vtkImageData* image, const MLI& mli, const Camera& cam,
 }
 
 TEST(RenderView, ReferenceCameraTwoPlanes) {
-  const MLI mli = twoPlanes(24, 16);
+  const mli::MLI mli = twoPlanes(24, 16);
   MLISource source(mli);
   vtkNew<vtkSIMPLIRenderView> view;
   view->SetInputConnection(source.reader->GetOutputPort());
@@ -300,11 +300,11 @@ TEST(RenderView, ReferenceCameraTwoPlanes) {
   EXPECT_EQ(rgb->GetTypedComponent(centre, 2), 128);
   EXPECT_NEAR(image->GetPointData()->GetArray("Depth")->GetComponent(centre, 0), 3.0, 1e-4);
   EXPECT_NEAR(image->GetPointData()->GetArray("Opacity")->GetComponent(centre, 0), 1.0, 1e-4);
-  const Camera used = fieldCamera(image->GetFieldData());
+  const scene::Camera used = fieldCamera(image->GetFieldData());
   EXPECT_EQ(used.fx, mli.camera.fx);
   EXPECT_EQ(used.width, 24);
   EXPECT_EQ(image->GetFieldData()->GetArray("FrameIndex")->GetComponent(0, 0), -1);
-  expectMatchesModel(image, mli, mli.camera, RasterInterpolation::ScreenLinear);
+  expectMatchesModel(image, mli, mli.camera, raster::RasterInterpolation::ScreenLinear);
 
   // Width / Height: both, or one keeping the aspect ratio.
   view->SetWidth(48);
@@ -324,11 +324,11 @@ TEST(RenderView, ReferenceCameraTwoPlanes) {
 }
 
 TEST(RenderView, ExplicitCameraMatchesTheModel) {
-  const MLI mli = randomMLI(3, 12, 16, 5);
+  const mli::MLI mli = randomMLI(3, 12, 16, 5);
   MLISource source(mli);
   vtkNew<vtkSIMPLIRenderView> view;
   view->SetInputConnection(source.reader->GetOutputPort());
-  Camera cam = mli.camera;
+  scene::Camera cam = mli.camera;
   cam.t += cam.R * Eigen::Vector3d(0.3, -0.2, 0.1); // move the centre a little
   cam.width = 40;
   cam.height = 30;
@@ -348,8 +348,8 @@ TEST(RenderView, ExplicitCameraMatchesTheModel) {
     view->SetInterpolation(interp);
     vtkImageData* image = render(view);
     expectMatchesModel(image, mli, cam,
-                       interp ? RasterInterpolation::PerspectiveCorrect
-                              : RasterInterpolation::ScreenLinear);
+                       interp ? raster::RasterInterpolation::PerspectiveCorrect
+                              : raster::RasterInterpolation::ScreenLinear);
     vtkDataArray* z = image->GetPointData()->GetArray("Depth");
     for (vtkIdType i = 0; i < z->GetNumberOfTuples(); ++i)
       depths[interp].push_back(static_cast<float>(z->GetComponent(i, 0)));
@@ -371,15 +371,15 @@ TEST(RenderView, ExplicitCameraMatchesTheModel) {
 }
 
 TEST(RenderView, SceneViewCamera) {
-  const Scene scene = readScene(kScene, [] {
-    SceneReadOptions o;
+  const scene::Scene scene = scene::readScene(kScene, [] {
+    scene::SceneReadOptions o;
     o.loadImages = false;
     return o;
   }());
-  Camera ref = referenceCamera(scene.cameras());
+  scene::Camera ref = scene::referenceCamera(scene.cameras());
   ref.width = 32;
   ref.height = 24;
-  MLI mli = MLI::allocate(ref, 2);
+  mli::MLI mli = mli::MLI::allocate(ref, 2);
   for (std::size_t p = 0; p < mli.texels(); ++p) {
     mli.layers[0].depth[p] = 5.0f + 0.01f * static_cast<float>(p % 32);
     mli.layers[1].depth[p] = 2.0f;
@@ -403,7 +403,7 @@ TEST(RenderView, SceneViewCamera) {
   view->SetSceneConnection(sceneReader->GetOutputPort(0));
   view->SetViewIndex(7);
   vtkImageData* image = render(view);
-  expectMatchesModel(image, mli, scene.views[7].camera, RasterInterpolation::ScreenLinear);
+  expectMatchesModel(image, mli, scene.views[7].camera, raster::RasterInterpolation::ScreenLinear);
   view->SetViewIndex(12);
   errors->messages.clear();
   EXPECT_EQ(runWithErrors(view, errors), 0);
@@ -411,7 +411,7 @@ TEST(RenderView, SceneViewCamera) {
 }
 
 TEST(RenderView, TrajectoryTimeSteps) {
-  const MLI mli = twoPlanes(20, 16);
+  const mli::MLI mli = twoPlanes(20, 16);
   MLISource source(mli);
   vtkNew<vtkSIMPLIRenderView> view;
   view->SetInputConnection(source.reader->GetOutputPort());
@@ -427,23 +427,23 @@ TEST(RenderView, TrajectoryTimeSteps) {
 
   // Without a time request: FrameIndex. The automatic path: focus from the MLI's depth range
   // (2 .. 4), radii 5 % of it.
-  TrajectoryOptions o;
-  o.kind = TrajectoryKind::Orbit;
+  scene::TrajectoryOptions o;
+  o.kind = scene::TrajectoryKind::Orbit;
   o.frames = 8;
-  o = resolveTrajectory(o, mli.camera, {}, 2.0, 4.0);
+  o = scene::resolveTrajectory(o, mli.camera, {}, 2.0, 4.0);
   vtkImageData* image = render(view);
   EXPECT_EQ(image->GetFieldData()->GetArray("FrameIndex")->GetComponent(0, 0), 3);
-  Camera want = trajectoryCamera(mli.camera, o, 3.0 / 8.0);
-  Camera got = fieldCamera(image->GetFieldData());
+  scene::Camera want = scene::trajectoryCamera(mli.camera, o, 3.0 / 8.0);
+  scene::Camera got = fieldCamera(image->GetFieldData());
   EXPECT_LT((got.centre() - want.centre()).norm(), 1e-12);
-  expectMatchesModel(image, mli, want, RasterInterpolation::ScreenLinear);
+  expectMatchesModel(image, mli, want, raster::RasterInterpolation::ScreenLinear);
 
   // A time request selects the frame.
   view->UpdateTimeStep(5.2);
   image = view->GetOutput();
   EXPECT_EQ(image->GetFieldData()->GetArray("FrameIndex")->GetComponent(0, 0), 5);
   got = fieldCamera(image->GetFieldData());
-  want = trajectoryCamera(mli.camera, o, 5.0 / 8.0);
+  want = scene::trajectoryCamera(mli.camera, o, 5.0 / 8.0);
   EXPECT_LT((got.centre() - want.centre()).norm(), 1e-12);
   EXPECT_EQ(image->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()), 5.0);
 
@@ -454,14 +454,15 @@ TEST(RenderView, TrajectoryTimeSteps) {
   o.radii = Eigen::Vector3d(0.1, 0.2, 0.0);
   o.focusDepth = 3.0;
   got = fieldCamera(view->GetOutput()->GetFieldData());
-  EXPECT_LT((got.centre() - trajectoryCamera(mli.camera, o, 1.0 / 8.0).centre()).norm(), 1e-12);
+  EXPECT_LT((got.centre() - scene::trajectoryCamera(mli.camera, o, 1.0 / 8.0).centre()).norm(),
+            1e-12);
   view->SetCameraMode(vtkSIMPLIRenderView::CAMERA_REFERENCE);
   view->UpdateInformation();
   EXPECT_FALSE(view->GetOutputInformation(0)->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
 }
 
 TEST(RenderView, AbortLeavesAnEmptyImage) {
-  const MLI mli = twoPlanes(24, 16);
+  const mli::MLI mli = twoPlanes(24, 16);
   MLISource source(mli);
   vtkNew<vtkSIMPLIRenderView> view;
   view->SetInputConnection(source.reader->GetOutputPort());

@@ -20,9 +20,9 @@
 
 #include "mli_vtk_test_util.h"
 #include "simpli/model/network/network.h"
-#include "simpli/model/training/train_checkpoint.h"
-#include "simpli/model/training/train_config.h"
-#include "simpli/model/training/train_log.h"
+#include "simpli/model/training/checkpoint.h"
+#include "simpli/model/training/config.h"
+#include "simpli/model/training/log.h"
 
 namespace simpli::vtktest {
 namespace {
@@ -58,7 +58,7 @@ TEST(Train, ThreeStepsGiveATableAndACheckpoint) {
   ASSERT_EQ(runWithErrors(t, errors), 1) << errors->all();
   vtkTable* table = tableOf(t);
   ASSERT_EQ(table->GetNumberOfRows(), 3);
-  const std::vector<std::string>& terms = train::lossTermNames();
+  const std::vector<std::string>& terms = training::lossTermNames();
   ASSERT_EQ(table->GetNumberOfColumns(), vtkIdType(terms.size() + 6));
   vtkDataArray* step = vtkDataArray::SafeDownCast(table->GetColumnByName("step"));
   ASSERT_NE(step, nullptr);
@@ -78,11 +78,11 @@ TEST(Train, ThreeStepsGiveATableAndACheckpoint) {
   EXPECT_EQ(fieldValue(table, "Interrupted"), 0);
 
   // The run folder: the final checkpoint, the weights, the log with the same rows.
-  const auto latest = train::latestCheckpoint(run);
+  const auto latest = training::latestCheckpoint(run);
   ASSERT_TRUE(latest.has_value());
   EXPECT_EQ(fs::path(*latest).filename(), "step_00000003");
   EXPECT_TRUE(fs::exists(fs::path(run) / "weights.safetensors"));
-  const auto rows = train::TrainLog::read((fs::path(run) / "log.csv").string());
+  const auto rows = training::TrainLog::read((fs::path(run) / "log.csv").string());
   ASSERT_EQ(rows.size(), 3u);
   vtkDataArray* totals = vtkDataArray::SafeDownCast(table->GetColumnByName("total"));
   EXPECT_EQ(rows[2][terms.size() + 1], totals->GetComponent(2, 0));
@@ -124,14 +124,14 @@ TEST(Train, AbortAfterTheFirstStepLeavesAReadableCheckpoint) {
   EXPECT_EQ(fieldValue(table, "Interrupted"), 1);
   EXPECT_EQ(fieldValue(table, "FinalStep"), 1);
 
-  const auto latest = train::latestCheckpoint(run);
+  const auto latest = training::latestCheckpoint(run);
   ASSERT_TRUE(latest.has_value());
   EXPECT_EQ(fs::path(*latest).filename(), "step_00000001");
   // Readable: a network of the run's config loads it completely.
-  const train::TrainingConfig config =
-      train::loadTrainingConfig((fs::path(run) / "config.json").string());
-  net::SimpliNetwork network(config.network);
-  const train::CheckpointData data = train::readCheckpoint(*latest, network.parameters());
+  const training::TrainingConfig config =
+      training::loadTrainingConfig((fs::path(run) / "config.json").string());
+  network::SimpliNetwork network(config.network);
+  const training::CheckpointData data = training::readCheckpoint(*latest, network.parameters());
   EXPECT_EQ(data.step, 1);
   // No temporaries left behind.
   for (const std::string& name : listDir(fs::path(run) / "checkpoints"))
@@ -149,10 +149,11 @@ TEST(Train, ANetworkConfigFileTrainsWithTheDefaultSettings) {
   vtkNew<ErrorRecorder> errors;
   ASSERT_EQ(runWithErrors(t, errors), 1) << errors->all();
   EXPECT_EQ(tableOf(t)->GetNumberOfRows(), 1);
-  const train::TrainingConfig saved =
-      train::loadTrainingConfig((fs::path(tmp.path()) / "run" / "config.json").string());
+  const training::TrainingConfig saved =
+      training::loadTrainingConfig((fs::path(tmp.path()) / "run" / "config.json").string());
   EXPECT_EQ(saved.network.name, "tiny");
-  EXPECT_EQ(saved.optimizer.lr, train::TrainingConfig().optimizer.lr); // not tiny's training 1e-3
+  EXPECT_EQ(saved.optimizer.lr,
+            training::TrainingConfig().optimizer.lr); // not tiny's training 1e-3
 }
 
 TEST(Train, BadInputFailsWithAClearMessage) {

@@ -2,7 +2,7 @@
 
 #include "golden_util.h"
 
-#include <simpli/model/reference_camera.h>
+#include <simpli/model/scene/reference_camera.h>
 
 #include <Eigen/Geometry>
 
@@ -10,8 +10,8 @@
 
 namespace simpli::test {
 
-Camera cameraFrom(const double* e, const double* k, int width, int height) {
-  Camera c;
+scene::Camera cameraFrom(const double* e, const double* k, int width, int height) {
+  scene::Camera c;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j)
       c.R(i, j) = e[4 * i + j];
@@ -26,10 +26,11 @@ Camera cameraFrom(const double* e, const double* k, int width, int height) {
   return c;
 }
 
-GeneratorInput goldenInput(ocl::Dtype dtype) {
-  const SafeTensorsReader& in = goldenFile("inputs");
-  const HostTensor<double> ext = in.readF64("src_extrinsics"), intr = in.readF64("src_intrinsics");
-  GeneratorInput input;
+generator::GeneratorInput goldenInput(ocl::Dtype dtype) {
+  const io::SafeTensorsReader& in = goldenFile("inputs");
+  const io::HostTensor<double> ext = in.readF64("src_extrinsics"),
+                               intr = in.readF64("src_intrinsics");
+  generator::GeneratorInput input;
   input.images = goldenTensor("inputs", "images", dtype);
   const int H = static_cast<int>(input.images.size(2)), W = static_cast<int>(input.images.size(3));
   for (int v = 0; v < 3; ++v)
@@ -41,9 +42,9 @@ GeneratorInput goldenInput(ocl::Dtype dtype) {
   return input;
 }
 
-SourceRenderer goldenStubRenderer(std::vector<ocl::Tensor>* received) {
+generator::SourceRenderer goldenStubRenderer(std::vector<ocl::Tensor>* received) {
   return [received](const ocl::Tensor& rgba, const ocl::Tensor& /*depth*/,
-                    const GeneratorInput& input, int /*level*/) {
+                    const generator::GeneratorInput& input, int /*level*/) {
     if (received)
       received->push_back(rgba);
     const std::vector<double> x = rgba.toVector(); // [S, 4, hm, wm]
@@ -72,10 +73,11 @@ SourceRenderer goldenStubRenderer(std::vector<ocl::Tensor>* received) {
   };
 }
 
-GeneratorInput syntheticInput(int views, int height, int width, ocl::Dtype dtype, uint64_t seed) {
-  GeneratorInput input;
+generator::GeneratorInput syntheticInput(int views, int height, int width, ocl::Dtype dtype,
+                                         uint64_t seed) {
+  generator::GeneratorInput input;
   for (int v = 0; v < views; ++v) {
-    Camera c;
+    scene::Camera c;
     const double phase = 2.0 * M_PI * v / std::max(views, 1);
     const double radius = views == 1 ? 0.0 : 0.05;
     c.R = (Eigen::AngleAxisd(0.01 * std::sin(phase), Eigen::Vector3d::UnitY()) *
@@ -90,16 +92,16 @@ GeneratorInput syntheticInput(int views, int height, int width, ocl::Dtype dtype
     c.height = height;
     input.sources.push_back(c);
   }
-  input.reference = referenceCamera(input.sources);
+  input.reference = scene::referenceCamera(input.sources);
   input.images = ocl::Tensor::uniform({views, 3, height, width}, -1.0, 1.0, seed, dtype);
   return input;
 }
 
-std::unique_ptr<net::SimpliNetwork> configNetwork(const std::string& name, ocl::Dtype dtype,
-                                                  uint64_t seed) {
-  return std::make_unique<net::SimpliNetwork>(
-      net::loadNetworkConfig(std::string(SIMPLI_NETWORK_CONFIG_DIR) + "/" + name + ".json"), dtype,
-      seed);
+std::unique_ptr<network::SimpliNetwork> configNetwork(const std::string& name, ocl::Dtype dtype,
+                                                      uint64_t seed) {
+  return std::make_unique<network::SimpliNetwork>(
+      network::loadNetworkConfig(std::string(SIMPLI_NETWORK_CONFIG_DIR) + "/" + name + ".json"),
+      dtype, seed);
 }
 
 bool allFinite(const ocl::Tensor& t) {

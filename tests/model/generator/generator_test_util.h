@@ -11,24 +11,25 @@
 namespace simpli::test {
 
 /// A camera from a 3x4 row-major world->camera matrix and a 3x3 row-major relative K.
-Camera cameraFrom(const double* extrinsic, const double* intrinsic, int width, int height);
+scene::Camera cameraFrom(const double* extrinsic, const double* intrinsic, int width, int height);
 
 /// The golden forward pass's input (3 views of 64 x 96, reference camera from the file).
-GeneratorInput goldenInput(ocl::Dtype dtype);
+generator::GeneratorInput goldenInput(ocl::Dtype dtype);
 
 /// The golden README's stub renderer (§4): surface 0 taken as opaque, the others composited
 /// over it in index order, nearest-resized to the source size, the same image for every view.
 /// Every call appends the RGBA it was given to `received` (when not null).
-SourceRenderer goldenStubRenderer(std::vector<ocl::Tensor>* received = nullptr);
+generator::SourceRenderer goldenStubRenderer(std::vector<ocl::Tensor>* received = nullptr);
 
 /// A forward-facing rig of `views` cameras (relative intrinsics, baselines ~0.05 around the
 /// identity reference) looking at width x height images; reference = referenceCamera(rig).
 /// Images are uniform noise in [-1, 1] from `seed`.
-GeneratorInput syntheticInput(int views, int height, int width, ocl::Dtype dtype, uint64_t seed);
+generator::GeneratorInput syntheticInput(int views, int height, int width, ocl::Dtype dtype,
+                                         uint64_t seed);
 
 /// A network from model/configs/<name>.json with parameters drawn from `seed`.
-std::unique_ptr<net::SimpliNetwork> configNetwork(const std::string& name, ocl::Dtype dtype,
-                                                  uint64_t seed = 1);
+std::unique_ptr<network::SimpliNetwork> configNetwork(const std::string& name, ocl::Dtype dtype,
+                                                      uint64_t seed = 1);
 
 /// Every element finite.
 bool allFinite(const ocl::Tensor& t);

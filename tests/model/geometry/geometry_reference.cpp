@@ -24,11 +24,11 @@ double gridSample(const double* plane, int H, int W, double gx, double gy) {
          ty * ((1 - tx) * at(y0 + 1, x0) + tx * at(y0 + 1, x0 + 1));
 }
 
-Eigen::Vector2d gridOf(const Camera& camera, const Eigen::Vector3d& world) {
+Eigen::Vector2d gridOf(const scene::Camera& camera, const Eigen::Vector3d& world) {
   return 2.0 * camera.project(world) - Eigen::Vector2d::Ones();
 }
 
-Eigen::Vector3d planePoint(const Camera& ref, int x, int y, int h, int w, double d) {
+Eigen::Vector3d planePoint(const scene::Camera& ref, int x, int y, int h, int w, double d) {
   const Eigen::Vector2d uv((x + 0.5) / w, (y + 0.5) / h);
   const Eigen::Vector3d C = ref.centre();
   const Eigen::Vector3d r = (ref.backproject(uv, 1.0) - C).normalized();
@@ -37,13 +37,13 @@ Eigen::Vector3d planePoint(const Camera& ref, int x, int y, int h, int w, double
   return C + tau * r;
 }
 
-Eigen::Vector3d layerPoint(const Camera& ref, int x, int y, int h, int w, double d) {
+Eigen::Vector3d layerPoint(const scene::Camera& ref, int x, int y, int h, int w, double d) {
   const Eigen::Vector2d uv(static_cast<double>(x) / (w - 1), static_cast<double>(y) / (h - 1));
   return ref.backproject(uv, d);
 }
 
 CpuSamples sampleSurfaces(const std::vector<double>& src, bool perSurface, int C, int Hs, int Ws,
-                          const std::vector<Camera>& views, int S, int h, int w,
+                          const std::vector<scene::Camera>& views, int S, int h, int w,
                           const PointFn& point) {
   const int V = static_cast<int>(views.size());
   const std::size_t plane = static_cast<std::size_t>(Hs) * Ws, hw = std::size_t(h) * w;
@@ -140,15 +140,15 @@ CpuRender compose(const std::vector<double>& features, int N, int P, int C1, int
 }
 
 CpuRender renderMpi(const std::vector<double>& mpi, int P, int C1, int h, int w,
-                    const std::vector<double>& depths, const Camera& ref,
-                    const std::vector<Camera>& targets, int Ht, int Wt) {
+                    const std::vector<double>& depths, const scene::Camera& ref,
+                    const std::vector<scene::Camera>& targets, int Ht, int Wt) {
   const int N = static_cast<int>(targets.size());
   const std::size_t hw = std::size_t(h) * w, hwt = std::size_t(Ht) * Wt;
   std::vector<double> features(std::size_t(N) * P * C1 * hwt);
   const Eigen::Vector3d n = ref.R.transpose() * Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d Cref = ref.centre();
   for (int k = 0; k < N; ++k) {
-    const Camera& cam = targets[k];
+    const scene::Camera& cam = targets[k];
     const Eigen::Vector3d Cc = cam.centre();
     for (int y = 0; y < Ht; ++y)
       for (int x = 0; x < Wt; ++x) {
@@ -173,9 +173,9 @@ Eigen::Matrix3d rotation(double a, double b, double c) {
   return Ry * Rx * Rz;
 }
 
-Camera randomCamera(std::mt19937_64& rng, double maxAngle, double baseline) {
+scene::Camera randomCamera(std::mt19937_64& rng, double maxAngle, double baseline) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Camera c;
+  scene::Camera c;
   c.R = rotation(maxAngle * u(rng), maxAngle * u(rng), maxAngle * u(rng));
   const Eigen::Vector3d centre(baseline * u(rng), baseline * u(rng), baseline * u(rng));
   c.t = -c.R * centre;
@@ -186,8 +186,8 @@ Camera randomCamera(std::mt19937_64& rng, double maxAngle, double baseline) {
   return c;
 }
 
-Camera referenceCamera() {
-  Camera c;
+scene::Camera referenceCamera() {
+  scene::Camera c;
   c.fx = 1.0;
   c.fy = 1.3;
   return c;

@@ -14,8 +14,8 @@
 
 namespace simpli::test {
 
-Camera generalCamera(int W, int H) {
-  Camera c;
+scene::Camera generalCamera(int W, int H) {
+  scene::Camera c;
   c.R = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, -1.0, 0.4).normalized()).toRotationMatrix();
   c.t = Eigen::Vector3d(0.7, -1.3, 2.1);
   c.fx = 0.92;
@@ -27,11 +27,11 @@ Camera generalCamera(int W, int H) {
   return c;
 }
 
-MLI randomMLI(int L, int H, int W, unsigned seed, float dmin, float dmax) {
-  MLI mli = MLI::allocate(generalCamera(W, H), L);
+mli::MLI randomMLI(int L, int H, int W, unsigned seed, float dmin, float dmax) {
+  mli::MLI mli = mli::MLI::allocate(generalCamera(W, H), L);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> depth(dmin, dmax), unit(0.0f, 1.0f);
-  for (MLILayer& layer : mli.layers) {
+  for (mli::MLILayer& layer : mli.layers) {
     for (float& d : layer.depth)
       d = depth(rng);
     for (float& v : layer.rgba)
@@ -40,10 +40,10 @@ MLI randomMLI(int L, int H, int W, unsigned seed, float dmin, float dmax) {
   return mli;
 }
 
-MLI smoothMLI(int L, int H, int W) {
-  MLI mli = MLI::allocate(generalCamera(W, H), L);
+mli::MLI smoothMLI(int L, int H, int W) {
+  mli::MLI mli = mli::MLI::allocate(generalCamera(W, H), L);
   for (int k = 0; k < L; ++k) {
-    MLILayer& layer = mli.layers[static_cast<std::size_t>(k)];
+    mli::MLILayer& layer = mli.layers[static_cast<std::size_t>(k)];
     const double base = 10.0 / (k + 1); // back layers farther, as in an MLI
     for (int i = 0; i < H; ++i)
       for (int j = 0; j < W; ++j) {

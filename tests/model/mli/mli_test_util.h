@@ -7,20 +7,20 @@
 
 #include <gtest/gtest.h>
 
-#include "simpli/model/mli.h"
+#include "simpli/model/mli/mli.h"
 
 namespace simpli::test {
 
 namespace fs = std::filesystem;
 
 /// A rotated, translated camera with an off-centre principal point (fx != fy).
-Camera generalCamera(int W, int H);
+scene::Camera generalCamera(int W, int H);
 
 /// Uniform random depth in [dmin, dmax] and RGBA in [0, 1], with a general camera.
-MLI randomMLI(int L, int H, int W, unsigned seed, float dmin = 1.0f, float dmax = 50.0f);
+mli::MLI randomMLI(int L, int H, int W, unsigned seed, float dmin = 1.0f, float dmax = 50.0f);
 
 /// Smooth colour, alpha and depth (low-frequency sines), what JPEG handles well.
-MLI smoothMLI(int L, int H, int W);
+mli::MLI smoothMLI(int L, int H, int W);
 
 /// A fresh empty folder under the system temp folder, removed with everything in it when the
 /// object dies. Unique per process and object, so parallel ctest runs do not collide.

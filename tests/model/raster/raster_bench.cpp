@@ -2,7 +2,7 @@
 // Usage: simpli_raster_bench [layers H W Ht Wt views tile]
 // Default: 4 layers of 192 x 256 texels into 8 views of 384 x 512, float32, tile 8.
 #include <simpli/error.h>
-#include <simpli/model/rasterizer.h>
+#include <simpli/model/raster/rasterizer.h>
 #include <simpli/ocl/autograd.h>
 #include <simpli/ocl/device.h>
 #include <simpli/ocl/ops_elementwise.h>
@@ -58,20 +58,20 @@ int main(int argc, char** argv) {
     const int Ht = argc > 4 ? std::atoi(argv[4]) : 384;
     const int Wt = argc > 5 ? std::atoi(argv[5]) : 512;
     const int views = argc > 6 ? std::atoi(argv[6]) : 8;
-    RasterSettings settings;
+    raster::RasterSettings settings;
     settings.tileSize = argc > 7 ? std::atoi(argv[7]) : 8;
     std::vector<double> depth, rgba;
     makeLayers(L, H, W, depth, rgba);
-    Camera ref;
+    scene::Camera ref;
     ref.fx = 0.92;
     ref.fy = 1.23;
     ref.width = W;
     ref.height = H;
     ocl::Tensor d = ocl::Tensor::fromHost(depth, {L, H, W}, ocl::Dtype::F32);
     ocl::Tensor a = ocl::Tensor::fromHost(rgba, {L, 4, H, W}, ocl::Dtype::F32);
-    std::vector<Camera> targets;
+    std::vector<scene::Camera> targets;
     for (int v = 0; v < views; ++v) {
-      Camera c = ref;
+      scene::Camera c = ref;
       const double angle = 2 * M_PI * v / views;
       c.t = Eigen::Vector3d(0.15 * std::cos(angle), 0.1 * std::sin(angle), 0.05 * v / views);
       c.R = Eigen::AngleAxisd(0.02 * std::sin(angle), Eigen::Vector3d::UnitY()).toRotationMatrix();
@@ -85,18 +85,18 @@ int main(int argc, char** argv) {
                 settings.tileSize);
     {
       ocl::NoGradGuard noGrad; // warm-up: kernel builds
-      renderLayers(d, a, ref, targets[0], settings).colour.toVector();
+      raster::renderLayers(d, a, ref, targets[0], settings).colour.toVector();
     }
     double tRaster = 0, tShade = 0, tBackward = 0;
     double cRaster = 0, cShade = 0, cBackward = 0;
-    for (const Camera& c : targets) {
+    for (const scene::Camera& c : targets) {
       double c0 = cpuNow(), t0 = now();
-      const RasterFragments f = rasterizeLayers(d, ref, c, settings);
+      const raster::RasterFragments f = raster::rasterizeLayers(d, ref, c, settings);
       ocl::Device::current().finish();
       double c1 = cpuNow(), t1 = now();
       a.setRequiresGrad(true);
       d.setRequiresGrad(true);
-      const RenderedLayers r = shadeFragments(f, d, a);
+      const raster::RenderedLayers r = raster::shadeFragments(f, d, a);
       ocl::Device::current().finish();
       double c2 = cpuNow(), t2 = now();
       (ocl::sumAll(r.colour) + ocl::sumAll(r.depth)).backward();

@@ -83,7 +83,8 @@ ReferenceImage referenceRender(const LayerScene& s) {
   const double farZ = (s.settings.farZ > 0 && std::isfinite(s.settings.farZ))
                           ? s.settings.farZ
                           : std::numeric_limits<double>::infinity();
-  const bool perspective = s.settings.interpolation == RasterInterpolation::PerspectiveCorrect;
+  const bool perspective =
+      s.settings.interpolation == raster::RasterInterpolation::PerspectiveCorrect;
   ReferenceImage out;
   out.Ht = Ht;
   out.Wt = Wt;
@@ -125,7 +126,7 @@ ReferenceImage referenceRender(const LayerScene& s) {
   std::vector<std::array<int64_t, 3>> tv(numTri);
   std::map<std::pair<int64_t, int64_t>, std::vector<std::pair<int64_t, int64_t>>> edges;
   for (int64_t t = 0; t < numTri; ++t) {
-    tv[t] = layerTriangleVertices(t, H, W);
+    tv[t] = raster::layerTriangleVertices(t, H, W);
     const Vertex &a = vert[tv[t][0]], &b = vert[tv[t][1]], &c = vert[tv[t][2]];
     if (!a.ok || !b.ok || !c.ok)
       continue;
@@ -271,7 +272,7 @@ ReferenceImage referenceRender(const LayerScene& s) {
   return out;
 }
 
-DeviceImage download(const RenderedLayers& r) {
+DeviceImage download(const raster::RenderedLayers& r) {
   return {r.colour.toVector(), r.opacity.toVector(), r.depth.toVector(), r.weights.toVector()};
 }
 
@@ -306,9 +307,9 @@ Eigen::Matrix3d smallRotation(double degrees, unsigned seed) {
   return Eigen::AngleAxisd(degrees * M_PI / 180.0, axis).toRotationMatrix();
 }
 
-Camera makeCamera(double fx, double fy, double cx, double cy, int width, int height,
-                  const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
-  Camera c;
+scene::Camera makeCamera(double fx, double fy, double cx, double cy, int width, int height,
+                         const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  scene::Camera c;
   c.fx = fx;
   c.fy = fy;
   c.cx = cx;
@@ -320,9 +321,9 @@ Camera makeCamera(double fx, double fy, double cx, double cy, int width, int hei
   return c;
 }
 
-Camera cornerGridCamera(const Camera& ref, int W, int H) {
+scene::Camera cornerGridCamera(const scene::Camera& ref, int W, int H) {
   // Target u_t = a u_r + b with u_r = j/(W-1) -> u_t = (j + 0.5)/W: a = (W-1)/W, b = 0.5/W.
-  Camera c = ref;
+  scene::Camera c = ref;
   const double ax = double(W - 1) / W, ay = double(H - 1) / H;
   c.fx = ref.fx * ax;
   c.cx = ref.cx * ax + 0.5 / W;

@@ -3,8 +3,8 @@
 // model/include/simpli/model/rasterizer.h), brute force per triangle and pixel, for the tests.
 // Vertices go through world coordinates with the Camera methods (the device code composes the
 // two cameras into one transform instead).
-#include <simpli/model/camera.h>
-#include <simpli/model/rasterizer.h>
+#include <simpli/model/raster/rasterizer.h>
+#include <simpli/model/scene/camera.h>
 #include <simpli/ocl/tensor.h>
 
 #include <cstdint>
@@ -14,10 +14,10 @@ namespace simpli::test {
 
 struct LayerScene {
   int L = 1, H = 2, W = 2, A = 4;
-  std::vector<double> depth; ///< [L, H, W]
-  std::vector<double> attrs; ///< [L, A, H, W]
-  Camera reference, target;  ///< target.width x target.height is the output size
-  RasterSettings settings;
+  std::vector<double> depth;       ///< [L, H, W]
+  std::vector<double> attrs;       ///< [L, A, H, W]
+  scene::Camera reference, target; ///< target.width x target.height is the output size
+  raster::RasterSettings settings;
 
   ocl::Tensor depthTensor(ocl::Dtype dtype) const;
   ocl::Tensor attrTensor(ocl::Dtype dtype) const;
@@ -43,7 +43,7 @@ ReferenceImage referenceRender(const LayerScene& scene);
 struct DeviceImage {
   std::vector<double> colour, opacity, depth, weights;
 };
-DeviceImage download(const RenderedLayers& r);
+DeviceImage download(const raster::RenderedLayers& r);
 
 /// Max over non-ambiguous pixels of |a - b| / max(1, |b|) for every output; also fails the
 /// test on any non-finite device value.
@@ -53,13 +53,13 @@ double maxRelativeError(const DeviceImage& device, const ReferenceImage& ref);
 Eigen::Matrix3d smallRotation(double degrees, unsigned seed);
 
 /// A camera with relative intrinsics (fx, fy, cx, cy), pose R, t and size.
-Camera makeCamera(double fx, double fy, double cx, double cy, int width, int height,
-                  const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity(),
-                  const Eigen::Vector3d& t = Eigen::Vector3d::Zero());
+scene::Camera makeCamera(double fx, double fy, double cx, double cy, int width, int height,
+                         const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity(),
+                         const Eigen::Vector3d& t = Eigen::Vector3d::Zero());
 
 /// The camera whose W x H pixel centres are exactly the corner-grid vertex rays of `ref`
 /// (same pose; intrinsics scaled by (W-1)/W and shifted half a pixel).
-Camera cornerGridCamera(const Camera& ref, int W, int H);
+scene::Camera cornerGridCamera(const scene::Camera& ref, int W, int H);
 
 /// Uniform random values in [lo, hi) (deterministic for a seed).
 std::vector<double> randomValues(std::size_t n, double lo, double hi, unsigned seed);

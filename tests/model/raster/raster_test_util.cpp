@@ -37,7 +37,7 @@ LayerScene flatScene(const std::vector<double>& depths, int H, int W, int A, uns
   return s;
 }
 
-Camera testReferenceCamera(int W, int H) {
+scene::Camera testReferenceCamera(int W, int H) {
   return makeCamera(0.9, 1.2, 0.47, 0.53, W, H, smallRotation(7.0, 11),
                     Eigen::Vector3d(0.3, -0.2, 0.5));
 }

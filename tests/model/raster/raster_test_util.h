@@ -26,7 +26,7 @@ LayerScene flatScene(const std::vector<double>& depths, int H, int W, int A, uns
 
 /// The reference camera used by most tests: off-centre principal point, a small rotation and
 /// translation, size W x H.
-Camera testReferenceCamera(int W, int H);
+scene::Camera testReferenceCamera(int W, int H);
 
 /// Whether every value is finite.
 bool allFinite(const std::vector<double>& values);

@@ -1,7 +1,7 @@
 #pragma once
 // Helpers shared by the synthetic-scene tests: a self-deleting temporary folder and flat-colour
 // textures / simple scenes for analytic checks.
-#include <simpli/model/synthetic/scene_generator.h>
+#include <simpli/model/synthetic/scene.h>
 
 #include <gtest/gtest.h>
 

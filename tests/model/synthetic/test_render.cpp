@@ -14,7 +14,7 @@
 using namespace simpli::synthetic;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
-using simpli::Camera;
+using simpli::scene::Camera;
 using simpli::test::flatTexture;
 using simpli::test::frontoPlane;
 using simpli::test::frontoRectangle;
@@ -207,7 +207,7 @@ TEST(SyntheticRender, NothingHitIsMidGreyWithDepthZero) {
   for (uint8_t c : view.rgb)
     EXPECT_EQ(c, 128);
   simpli::test::expectError([&] { depthBounds(view); }, {"hits no surface"});
-  const simpli::Image img = view.image();
+  const simpli::io::Image img = view.image();
   EXPECT_NEAR(img.at(0, 0, 0), 128.0 / 127.5 - 1.0, 1e-7);
 }
 

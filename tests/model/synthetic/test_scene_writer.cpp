@@ -1,7 +1,7 @@
 // Writing synthetic scenes (synthetic/scene_writer.h) and the on-the-fly source
 // (synthetic/procedural_source.h): both must give what readScene reads back.
-#include <simpli/model/llff_writer.h>
-#include <simpli/model/scene.h>
+#include <simpli/model/scene/llff_writer.h>
+#include <simpli/model/scene/scene.h>
 #include <simpli/model/synthetic/procedural_source.h>
 #include <simpli/model/synthetic/scene_writer.h>
 
@@ -43,7 +43,7 @@ std::vector<std::string> entries(const fs::path& dir) {
   return names;
 }
 
-void expectSameScene(const simpli::Scene& read, const SyntheticSample& sample) {
+void expectSameScene(const simpli::scene::Scene& read, const SyntheticSample& sample) {
   ASSERT_EQ(read.size(), sample.scene.size());
   EXPECT_NEAR(read.near, sample.scene.near, 1e-12);
   EXPECT_NEAR(read.far, sample.scene.far, 1e-12);
@@ -93,8 +93,8 @@ TEST(SyntheticSceneWriter, WritesLlffDepthAndDescription) {
 
   // Depth maps: the exact depths to within half a count.
   for (size_t i = 0; i < 3; ++i) {
-    const std::vector<float> d = simpli::readDepthPng(
-        (tmp.path() / "scene" / "depth" / (simpli::llffViewName(i, 3) + ".png")).string(),
+    const std::vector<float> d = simpli::scene::readDepthPng(
+        (tmp.path() / "scene" / "depth" / (simpli::scene::llffViewName(i, 3) + ".png")).string(),
         w.depthScale);
     ASSERT_EQ(d.size(), views[i].depth.size());
     for (size_t k = 0; k < d.size(); ++k)
@@ -107,8 +107,8 @@ TEST(SyntheticSceneWriter, ReadSceneGivesWhatTheProceduralSourceGives) {
   const SyntheticScene scene = generateSyntheticScene(tinyParams(8));
   const std::vector<RenderedView> views = renderViews(scene);
   writeSyntheticScene(tmp.str("s"), scene, views);
-  const simpli::Scene read = simpli::readScene(tmp.str("s"));
-  EXPECT_EQ(read.format, simpli::SceneFormat::LLFF);
+  const simpli::scene::Scene read = simpli::scene::readScene(tmp.str("s"));
+  EXPECT_EQ(read.format, simpli::scene::SceneFormat::LLFF);
   expectSameScene(read, makeSample(scene, views));
 
   // And the source, given the same seed through its index mapping, renders the same scene.
@@ -117,7 +117,7 @@ TEST(SyntheticSceneWriter, ReadSceneGivesWhatTheProceduralSourceGives) {
   const SyntheticScene viaSeed = generateSyntheticScene(p);
   const std::vector<RenderedView> viaSeedViews = renderViews(viaSeed);
   writeSyntheticScene(tmp.str("t"), viaSeed, viaSeedViews);
-  expectSameScene(simpli::readScene(tmp.str("t")), source.sample(4));
+  expectSameScene(simpli::scene::readScene(tmp.str("t")), source.sample(4));
 }
 
 TEST(SyntheticSceneWriter, ExistingFoldersAreProtected) {

@@ -1,7 +1,7 @@
 // The synthetic scenes shipped in datasets_small/synthetic: readable, small, and exactly what
 // `simpli make-scene` regenerates from the parameters in their scene.json.
-#include <simpli/model/file_io.h>
-#include <simpli/model/scene.h>
+#include <simpli/model/io/files.h>
+#include <simpli/model/scene/scene.h>
 #include <simpli/model/synthetic/scene_writer.h>
 
 #include "synthetic_test_util.h"
@@ -49,8 +49,8 @@ SyntheticSceneParams paramsFromJson(const fs::path& file) {
 
 // Same bytes, or (PNG encoders may differ between library versions) the same decoded pixels.
 void expectSameFile(const fs::path& shipped, const fs::path& regenerated, bool isPng) {
-  const auto a = simpli::readFileBytes(shipped.string(), "shipped file");
-  const auto b = simpli::readFileBytes(regenerated.string(), "regenerated file");
+  const auto a = simpli::io::readFileBytes(shipped.string(), "shipped file");
+  const auto b = simpli::io::readFileBytes(regenerated.string(), "regenerated file");
   if (a == b)
     return;
   ASSERT_TRUE(isPng) << shipped << " differs from its regenerated copy";
@@ -71,10 +71,10 @@ TEST(ShippedScenes, ReadableAndSmall) {
   EXPECT_LT(bytes, 15u * 1000 * 1000) << "datasets_small/synthetic is " << bytes << " bytes";
   for (int i = 0; i < kSceneCount; ++i) {
     const fs::path dir = kRoot / sceneName(i);
-    simpli::SceneReadOptions options;
+    simpli::scene::SceneReadOptions options;
     options.loadImages = false;
-    const simpli::Scene s = simpli::readScene(dir.string(), options);
-    EXPECT_EQ(s.format, simpli::SceneFormat::LLFF);
+    const simpli::scene::Scene s = simpli::scene::readScene(dir.string(), options);
+    EXPECT_EQ(s.format, simpli::scene::SceneFormat::LLFF);
     EXPECT_EQ(s.size(), 12u);
     EXPECT_EQ(s.width(), 192);
     EXPECT_EQ(s.height(), 128);

@@ -6,10 +6,10 @@
 //
 // This header is the contract between the generator and its users (training, `simpli infer`,
 // the VTK filters). Extend it; do not change what is here without updating every user.
-#include "simpli/model/camera.h"
-#include "simpli/model/mli.h"
+#include "simpli/model/mli/mli.h"
 #include "simpli/model/network/network.h"
-#include "simpli/model/rasterizer.h"
+#include "simpli/model/raster/rasterizer.h"
+#include "simpli/model/scene/camera.h"
 
 #include <simpli/ocl/tensor.h>
 
@@ -19,13 +19,13 @@
 #include <utility>
 #include <vector>
 
-namespace simpli {
+namespace simpli::generator {
 
 /// One forward pass's inputs (batch size 1, as the reference's inference).
 struct GeneratorInput {
-  ocl::Tensor images;          ///< [V, 3, H, W] RGB in [-1, 1], V >= 1, the network's dtype
-  std::vector<Camera> sources; ///< V source cameras (relative intrinsics; size W x H)
-  Camera reference;            ///< the virtual reference camera (size W x H)
+  ocl::Tensor images;                 ///< [V, 3, H, W] RGB in [-1, 1], V >= 1, the network's dtype
+  std::vector<scene::Camera> sources; ///< V source cameras (relative intrinsics; size W x H)
+  scene::Camera reference;            ///< the virtual reference camera (size W x H)
   /// Plane depth range (scene units). <= 0 means the config's min_depth / max_depth.
   double minDepth = 0, maxDepth = 0;
 };
@@ -44,13 +44,13 @@ struct GeneratorOptions {
   /// Finish the device queue after every stage so stageMs are wall times of that stage.
   bool timeStages = false;
   /// Rasterizer settings for the source renders of the corrections.
-  RasterSettings raster;
+  raster::RasterSettings raster;
   /// Empty = the OpenCL rasterizer.
   SourceRenderer sourceRenderer;
   /// Test / debugging aid: when set, receives named intermediate tensors as they are computed
   /// (names follow the golden files' stage keys, e.g. "features_extractor.out",
   /// "sampi_block_lvl1.out", "layered_depth"; layouts are this implementation's, see
-  /// generator.cpp). Not called when empty (no cost).
+  /// src/generator/). Not called when empty (no cost).
   std::function<void(const std::string& name, const ocl::Tensor& value)> stageHook;
   /// Progress and cancellation: called after every stage (the names of GeneratorOutput::stageMs)
   /// with the stages done and their total for this pass; returning false cancels the pass
@@ -85,21 +85,23 @@ struct GeneratorOutput {
 
 class Generator {
 public:
-  explicit Generator(net::SimpliNetwork& network);
+  explicit Generator(network::SimpliNetwork& network);
   GeneratorOutput forward(const GeneratorInput& input, const GeneratorOptions& options = {}) const;
-  net::SimpliNetwork& network() const { return network_; }
+  network::SimpliNetwork& network() const { return network_; }
 
 private:
-  net::SimpliNetwork& network_;
+  network::SimpliNetwork& network_;
 };
 
 /// Renders the generator's output into `target` (differentiable, as §6.8): colour RGB in
 /// [-1, 1] (clamped), opacity, depth, weights.
-RenderedLayers renderNovelView(const GeneratorOutput& output, const Camera& reference,
-                               const Camera& target, const RasterSettings& settings = {});
+raster::RenderedLayers renderNovelView(const GeneratorOutput& output,
+                                       const scene::Camera& reference, const scene::Camera& target,
+                                       const raster::RasterSettings& settings = {});
 
 /// The output as a CPU MLI in the reference camera (RGB mapped to [0, 1]). With
 /// dropEmptyBelow > 0, surfaces whose largest alpha is below it are left out (no empty layers).
-MLI toMLI(const GeneratorOutput& output, const Camera& reference, float dropEmptyBelow = 0.0f);
+mli::MLI toMLI(const GeneratorOutput& output, const scene::Camera& reference,
+               float dropEmptyBelow = 0.0f);
 
-} // namespace simpli
+} // namespace simpli::generator

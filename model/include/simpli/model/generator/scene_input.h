@@ -1,14 +1,14 @@
 #pragma once
-// From a scene read from disk (scene_readers.h) to the generator's input: the chosen source
+// From a scene read from disk (scene/readers.h) to the generator's input: the chosen source
 // views' images as one [V, 3, H, W] tensor, their cameras, and the virtual reference camera
 // (the pose average of the sources, simpli_reference.md §6.1) at the sources' size.
 #include "simpli/model/generator/generator.h"
-#include "simpli/model/scene.h"
+#include "simpli/model/scene/scene.h"
 
 #include <string>
 #include <vector>
 
-namespace simpli {
+namespace simpli::generator {
 
 /// Where the planes' depth range comes from.
 enum class DepthRangeSource {
@@ -24,9 +24,9 @@ struct SceneInputOptions {
 
 /// Throws simpli::Error naming the scene and the index for a view out of range, a repeated
 /// view, an empty scene or views of different sizes.
-GeneratorInput sceneInput(const Scene& scene, const SceneInputOptions& options = {});
+GeneratorInput sceneInput(const scene::Scene& scene, const SceneInputOptions& options = {});
 
 /// The views sceneInput uses (options.views, or all), validated as sceneInput does.
-std::vector<int> sceneInputViews(const Scene& scene, const std::vector<int>& views);
+std::vector<int> sceneInputViews(const scene::Scene& scene, const std::vector<int>& views);
 
-} // namespace simpli
+} // namespace simpli::generator

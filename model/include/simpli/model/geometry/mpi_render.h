@@ -9,13 +9,13 @@
 // composer's masked background, so rays that miss the MPI stay 0);
 // T_p = prod_{q>p} (1 - a_q + 1e-6), w_p = a_p T_p, colour = sum_p w_p f_p,
 // opacity = 1 - prod_q (1 - a_q + 1e-6).
-#include "simpli/model/camera.h"
+#include "simpli/model/scene/camera.h"
 
 #include <simpli/ocl/tensor.h>
 
 #include <vector>
 
-namespace simpli {
+namespace simpli::geometry {
 
 struct MpiRendering {
   ocl::Tensor color;   ///< [N, C, Ht, Wt]
@@ -28,7 +28,7 @@ struct MpiRendering {
 /// cameras at height x width. Differentiable with respect to the MPI (features and alphas);
 /// runs in the MPI's dtype.
 MpiRendering renderMpi(const ocl::Tensor& mpi, const std::vector<double>& depths,
-                       const Camera& reference, const std::vector<Camera>& targets, int height,
-                       int width);
+                       const scene::Camera& reference, const std::vector<scene::Camera>& targets,
+                       int height, int width);
 
-} // namespace simpli
+} // namespace simpli::geometry

@@ -8,14 +8,14 @@
 //
 // All ops run in the dtype of `sources` (float32 or float64), are differentiable with respect
 // to the maps (and weight maps) and are recorded on the autograd tape. Cameras use relative
-// intrinsics (camera.h); their image sizes are ignored.
-#include "simpli/model/camera.h"
+// intrinsics (scene/camera.h); their image sizes are ignored.
+#include "simpli/model/scene/camera.h"
 
 #include <simpli/ocl/tensor.h>
 
 #include <vector>
 
-namespace simpli {
+namespace simpli::geometry {
 
 /// Per-view samples of a set of surfaces and their validity.
 struct SurfaceSamples {
@@ -28,9 +28,9 @@ struct SurfaceSamples {
 /// depths: P plane depths (finite, > 0). Output grid: height x width (centre grid).
 /// Materialises V x P x C x h x w values: for small cases and tests; the network uses
 /// planeSweepMeanVar.
-SurfaceSamples planeSweep(const ocl::Tensor& sources, const Camera& reference,
-                          const std::vector<Camera>& views, const std::vector<double>& depths,
-                          int height, int width);
+SurfaceSamples planeSweep(const ocl::Tensor& sources, const scene::Camera& reference,
+                          const std::vector<scene::Camera>& views,
+                          const std::vector<double>& depths, int height, int width);
 
 /// The fused aggregation of the reference's TBlock (§3 step 2.4, §4.7), without materialising
 /// the sweep: w_v = m_v / (sum_v m_v + 1e-7), times plane p's own slice of `weights`
@@ -38,8 +38,9 @@ SurfaceSamples planeSweep(const ocl::Tensor& sources, const Camera& reference,
 /// renormalised); mean = sum_v w_v s_v, var = sum_v w_v (s_v - mean)^2 (not divided by sum w).
 /// sources: [V, C, Hs, Ws]. Returns [P, 2C, height, width] = [mean (C) | variance (C)] per
 /// plane. Differentiable with respect to sources and weights. At most 64 views.
-ocl::Tensor planeSweepMeanVar(const ocl::Tensor& sources, const Camera& reference,
-                              const std::vector<Camera>& views, const std::vector<double>& depths,
-                              int height, int width, const ocl::Tensor& weights = ocl::Tensor());
+ocl::Tensor planeSweepMeanVar(const ocl::Tensor& sources, const scene::Camera& reference,
+                              const std::vector<scene::Camera>& views,
+                              const std::vector<double>& depths, int height, int width,
+                              const ocl::Tensor& weights = ocl::Tensor());
 
-} // namespace simpli
+} // namespace simpli::geometry

@@ -6,7 +6,7 @@
 
 #include <string>
 
-namespace simpli::net {
+namespace simpli::network {
 
 /// The reference's MultiHeadAttention with residual = False: bias-free projections
 /// Q = q W_q, K = x W_k, V = x W_v to heads x headDim channels (hidden index head * headDim + i),
@@ -77,4 +77,4 @@ private:
   MultiHeadAttention attention_;
 };
 
-} // namespace simpli::net
+} // namespace simpli::network

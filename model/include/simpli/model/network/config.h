@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-namespace simpli::net {
+namespace simpli::network {
 
 enum class Activation { None, Relu, Elu };
 
@@ -111,4 +111,4 @@ NetworkConfig officialConfig(int layers);
 
 bool operator==(const NetworkConfig& a, const NetworkConfig& b);
 
-} // namespace simpli::net
+} // namespace simpli::network

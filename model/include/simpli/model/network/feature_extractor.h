@@ -7,7 +7,7 @@
 
 #include <simpli/ocl/tensor.h>
 
-namespace simpli::net {
+namespace simpli::network {
 
 class FeatureExtractor {
 public:
@@ -27,4 +27,4 @@ private:
       convDb_;
 };
 
-} // namespace simpli::net
+} // namespace simpli::network

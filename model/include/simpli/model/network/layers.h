@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace simpli::net {
+namespace simpli::network {
 
 ocl::Tensor activate(const ocl::Tensor& x, Activation activation);
 
@@ -99,4 +99,4 @@ private:
   std::vector<ConvBlock> layers_;
 };
 
-} // namespace simpli::net
+} // namespace simpli::network

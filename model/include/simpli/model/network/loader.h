@@ -12,7 +12,7 @@
 #include <optional>
 #include <string>
 
-namespace simpli::net {
+namespace simpli::network {
 
 /// The folder of the shipped network configs.
 std::string networkConfigDir();
@@ -41,4 +41,4 @@ struct LoadedNetwork {
 LoadedNetwork loadNetwork(const std::string& configName, const std::string& weightsPath,
                           std::optional<uint64_t> randomSeed, ocl::Dtype dtype = ocl::Dtype::F32);
 
-} // namespace simpli::net
+} // namespace simpli::network

@@ -13,7 +13,7 @@
 #include <optional>
 #include <vector>
 
-namespace simpli::net {
+namespace simpli::network {
 
 /// An aggregation module (the reference's TBlock, §4.7): the post-aggregation stack
 /// (<prefix>.post_aggregate_block, with the final [last out -> out] block appended) and, for
@@ -56,4 +56,4 @@ private:
   std::unique_ptr<ParameterStore> store_;
 };
 
-} // namespace simpli::net
+} // namespace simpli::network

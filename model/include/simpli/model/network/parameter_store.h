@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-namespace simpli {
+namespace simpli::io {
 class SafeTensorsReader;
 }
 
-namespace simpli::net {
+namespace simpli::network {
 
 /// How a parameter is drawn by initialise(): PyTorch's defaults for the reference's layers.
 enum class InitKind {
@@ -73,7 +73,7 @@ public:
   /// both with and without the prefix; keys that name no parameter are reported, not fatal.
   /// Nothing is written unless every parameter is present with the right shape.
   LoadReport load(const std::string& path);
-  LoadReport load(const SafeTensorsReader& reader);
+  LoadReport load(const io::SafeTensorsReader& reader);
 
   /// Writes every parameter (in the store's dtype) atomically, with optional metadata.
   void save(const std::string& path, const std::map<std::string, std::string>& metadata = {}) const;
@@ -94,4 +94,4 @@ private:
   std::map<std::string, Entry> index_;
 };
 
-} // namespace simpli::net
+} // namespace simpli::network

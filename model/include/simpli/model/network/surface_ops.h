@@ -5,7 +5,7 @@
 
 #include <vector>
 
-namespace simpli::net {
+namespace simpli::network {
 
 /// The level-0 aggregation state (§3 step 5): PE_C of the plane index p = 0..P-1,
 /// [P, channels] (identical for every pixel).
@@ -34,4 +34,4 @@ ocl::Tensor activateRgba(const ocl::Tensor& raw, int channelAxis);
 ocl::Tensor processDepth(const ocl::Tensor& logits, const std::vector<double>& planeDepths,
                          int layers);
 
-} // namespace simpli::net
+} // namespace simpli::network

@@ -3,7 +3,7 @@
 // with centres on a smooth wobbly sweep (mostly in the image plane, a little along z) plus
 // small per-view jitter, and small smooth rotations. Centres are recentred on their mean
 // (the world origin) and scaled so that the farthest lies exactly `maxOffset` from it.
-#include "simpli/model/camera.h"
+#include "simpli/model/scene/camera.h"
 #include "simpli/model/synthetic/random.h"
 
 #include <vector>
@@ -19,7 +19,7 @@ struct CameraPathParams {
 };
 
 /// World->camera cameras (OpenCV axes, relative intrinsics, cx = cy = 0.5).
-std::vector<Camera> makeCameraPath(const CameraPathParams& params, Random& rng);
+std::vector<scene::Camera> makeCameraPath(const CameraPathParams& params, Random& rng);
 
 /// Yaw (about camera y), pitch (about x) and roll (about z), in radians, of a camera-to-world
 /// rotation built as Ry(yaw) Rx(pitch) Rz(roll) — the decomposition makeCameraPath uses.

@@ -8,8 +8,8 @@
 // cameras and bounds normalised by the same rule (NormalisationOptions, default: the near
 // bound -> 1), view names "000.png" ... . The ground-truth depth maps come along in the same
 // normalised units.
-#include "simpli/model/normalisation.h"
-#include "simpli/model/scene.h"
+#include "simpli/model/scene/normalisation.h"
+#include "simpli/model/scene/scene.h"
 #include "simpli/model/synthetic/renderer.h"
 
 #include <cstdint>
@@ -20,7 +20,7 @@ namespace simpli::synthetic {
 struct SyntheticSample {
   uint64_t index = 0;
   uint64_t seed = 0;                      ///< the scene seed (params.seed of `geometry`)
-  Scene scene;                            ///< normalised units, as readScene
+  scene::Scene scene;                     ///< normalised units, as readScene
   std::vector<std::vector<float>> depths; ///< per view, height x width camera z (normalised)
   SyntheticScene geometry;                ///< the generated scene, in scene units
 };
@@ -29,7 +29,7 @@ class ProceduralSceneSource {
 public:
   /// `params.seed` is ignored: each sample gets its own seed. Throws for invalid params.
   explicit ProceduralSceneSource(const SyntheticSceneParams& params, uint64_t datasetSeed = 0,
-                                 const NormalisationOptions& normalisation = {});
+                                 const scene::NormalisationOptions& normalisation = {});
 
   uint64_t seedOf(uint64_t index) const { return deriveSeed(datasetSeed_, index); }
   SyntheticSample sample(uint64_t index) const;
@@ -38,12 +38,12 @@ public:
 private:
   SyntheticSceneParams params_;
   uint64_t datasetSeed_;
-  NormalisationOptions normalisation_;
+  scene::NormalisationOptions normalisation_;
 };
 
 /// The Scene + normalised depths for an already generated and rendered scene (what sample()
 /// does after generating).
 SyntheticSample makeSample(const SyntheticScene& geometry, const std::vector<RenderedView>& views,
-                           const NormalisationOptions& normalisation = {});
+                           const scene::NormalisationOptions& normalisation = {});
 
 } // namespace simpli::synthetic

@@ -10,8 +10,8 @@
 //    surface coordinates times a view-independent Lambert factor; rays that hit nothing are
 //    mid-grey (the reference's "no geometry" value 0 in [-1, 1]). Quantised to 8 bits, as an
 //    image file would hold it.
-#include "simpli/model/image.h"
-#include "simpli/model/synthetic/scene_generator.h"
+#include "simpli/model/io/image.h"
+#include "simpli/model/synthetic/scene.h"
 
 #include <cstdint>
 #include <vector>
@@ -25,12 +25,12 @@ struct RenderedView {
 
   float depthAt(int x, int y) const { return depth[size_t(y) * size_t(width) + size_t(x)]; }
   /// RGB in [-1, 1] (CHW), value for value what readImage returns for the PNG of `rgb`.
-  Image image() const;
+  io::Image image() const;
 };
 
 /// Ray through relative image coordinates (u, v): origin at the camera centre, direction with
 /// camera-space z = 1, so that a hit's ray parameter is its depth.
-Ray cameraRay(const Camera& camera, double u, double v);
+Ray cameraRay(const scene::Camera& camera, double u, double v);
 
 /// Nearest hit along a ray over all shapes of the scene (hit.shape: 0 = background,
 /// i + 1 = objects[i]); no hit: hit.hit() is false.
@@ -41,7 +41,8 @@ SurfaceHit castRay(const SyntheticScene& scene, const Ray& ray);
 Eigen::Vector3d shadeHit(const SyntheticScene& scene, const SurfaceHit& hit);
 
 /// Renders one camera; `jitterSeed` fixes the anti-aliasing sample positions.
-RenderedView renderView(const SyntheticScene& scene, const Camera& camera, uint64_t jitterSeed);
+RenderedView renderView(const SyntheticScene& scene, const scene::Camera& camera,
+                        uint64_t jitterSeed);
 
 /// Renders view `index` of scene.cameras with the scene's own jitter seed for that view.
 RenderedView renderView(const SyntheticScene& scene, int index);

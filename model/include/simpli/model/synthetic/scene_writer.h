@@ -1,5 +1,5 @@
 #pragma once
-// Writing a rendered synthetic scene to disk: LLFF files (llff_writer.h) — poses_bounds.npy,
+// Writing a rendered synthetic scene to disk: LLFF files (scene/llff_writer.h) — poses_bounds.npy,
 // images/NNN.png, depth/NNN.png (16-bit, depth = value * depth scale) — plus scene.json with
 // the generator parameters, the seed, the depth encoding, the cameras and every shape.
 //

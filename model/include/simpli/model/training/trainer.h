@@ -1,10 +1,10 @@
 #pragma once
-// The training loop (simpli_reference.md §8.2): per step one sample (train_sampler.h), the
+// The training loop (simpli_reference.md §8.2): per step one sample (training/sampler.h), the
 // generator's forward pass with the intermediate source renders, the novel views rendered with
-// the final layers, the losses (train_losses.h), backward, global gradient-norm clipping,
+// the final layers, the losses (training/losses.h), backward, global gradient-norm clipping,
 // Adam with lr0 * gamma^step, the weights' moving average when ema_decay > 0
-// (train_average.h), a CSV row (train_log.h) and, every checkpoint_every steps and when
-// stopping early, an atomic checkpoint (train_checkpoint.h).
+// (training/average.h), a CSV row (training/log.h) and, every checkpoint_every steps and when
+// stopping early, an atomic checkpoint (training/checkpoint.h).
 //
 // Run folder: a new run needs a folder that does not exist or is empty; --resume continues the
 // run in it from its newest checkpoint (or from step 0 when it has none) with the run's own
@@ -14,12 +14,12 @@
 // bit-identical depends on the device: see tests/model/training/test_train_resume.cpp.)
 #include "simpli/model/generator/generator.h"
 #include "simpli/model/network/network.h"
-#include "simpli/model/training/train_average.h"
-#include "simpli/model/training/train_config.h"
-#include "simpli/model/training/train_data.h"
-#include "simpli/model/training/train_log.h"
-#include "simpli/model/training/train_sampler.h"
-#include "simpli/model/training/train_vgg.h"
+#include "simpli/model/training/average.h"
+#include "simpli/model/training/config.h"
+#include "simpli/model/training/data.h"
+#include "simpli/model/training/log.h"
+#include "simpli/model/training/sampler.h"
+#include "simpli/model/training/vgg.h"
 
 #include <simpli/ocl/optim.h>
 
@@ -30,7 +30,7 @@
 #include <utility>
 #include <vector>
 
-namespace simpli::train {
+namespace simpli::training {
 
 struct StepReport {
   int64_t step = 0; ///< 1-based: the number of optimiser steps done after this one
@@ -68,7 +68,7 @@ public:
   int64_t totalSteps() const { return totalSteps_; }
   int64_t startStep() const { return startStep_; }
   const TrainingConfig& config() const { return config_; }
-  net::SimpliNetwork& network() { return *network_; }
+  network::SimpliNetwork& network() { return *network_; }
   /// The weights' moving average; null when ema_decay is 0.
   const ParameterAverage* average() const { return average_.get(); }
   const std::string& runDir() const { return options_.runDir; }
@@ -90,8 +90,8 @@ private:
   TrainingConfig config_;
   TrainerOptions options_;
   std::unique_ptr<TrainingData> data_;
-  std::unique_ptr<net::SimpliNetwork> network_;
-  std::unique_ptr<Generator> generator_;
+  std::unique_ptr<network::SimpliNetwork> network_;
+  std::unique_ptr<generator::Generator> generator_;
   std::unique_ptr<ocl::Adam> adam_;
   std::unique_ptr<ocl::ExponentialLr> schedule_;
   std::unique_ptr<Sampler> sampler_;
@@ -102,9 +102,9 @@ private:
 };
 
 /// Images [-1, 1] -> one tensor [n, 3, H, W] in `dtype`.
-ocl::Tensor imagesToTensor(const std::vector<Image>& images, ocl::Dtype dtype);
+ocl::Tensor imagesToTensor(const std::vector<io::Image>& images, ocl::Dtype dtype);
 
 /// The sampler seed of a run seeded with `seed` (distinct from the network's initialisation).
 uint64_t samplerSeed(uint64_t seed);
 
-} // namespace simpli::train
+} // namespace simpli::training

@@ -1,0 +1,22 @@
+#pragma once
+// The reference camera in which SIMPLI builds its planes and layers (simpli_reference.md §6.1):
+// rotation = average of the source world->camera rotations by Markley's method, centre = mean
+// of the source camera centres, intrinsics and image size of source view 0.
+#include "simpli/model/scene/camera.h"
+
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace simpli::scene {
+
+/// Markley et al. (2007) quaternion average: the unit eigenvector of the largest eigenvalue of
+/// sum_v q_v q_v^T. The result does not depend on the signs of the inputs (q and -q are the same
+/// rotation); the output's sign is fixed to w > 0 (or, when w == 0, to the first non-zero of
+/// x, y, z positive) so that the result is deterministic. Throws simpli::Error when empty.
+Eigen::Quaterniond averageRotation(const std::vector<Eigen::Matrix3d>& rotations);
+
+/// The reference camera of a set of source cameras; throws simpli::Error when empty.
+Camera referenceCamera(const std::vector<Camera>& sources);
+
+} // namespace simpli::scene

@@ -1,0 +1,111 @@
+#pragma once
+// A training run's settings, read from JSON. Defaults follow the reference (simpli_reference.md
+// §8): Adam lr 3e-4, betas 0.9 / 0.999, eps 1e-8, ExponentialLR gamma 0.999994 per step, global
+// gradient-norm clip 20, and the loss weights of configs/tblock4_train.yaml (l1 1, perceptual
+// 0, the four intermediate L1 losses 1 each, smooth_layers 0.01). Sampling (§8.3) is adapted
+// so that it works on small scenes: V is drawn uniformly from [min_views, max_views] clipped
+// to what the scene allows, and the frame window and crop are plain settings.
+//
+// JSON layout (only "network" is required; unknown keys are errors so that a typo cannot fall
+// back to a default silently):
+// {
+//   "network": "official-4l" | "official-8l" | "path/to/net.json" (relative to this file)
+//              | { ...a network config object (config.h)... },
+//   "dtype": "f32" | "f64",                 // parameters and computation (f64: reference runs)
+//   "seed": 0,                              // network initialisation and sampling
+//   "steps": 1000, "checkpoint_every": 100,
+//   "corrections": -1,                      // MLI corrections run in training (-1 = all)
+//   "max_fragments": 16,                    // rasterizer k-buffer size
+//   "ema_decay": 0,                         // > 0: keep an EMA of the weights (reference 0.9)
+//   "optimizer": {"lr": 3e-4, "beta1": 0.9, "beta2": 0.999, "eps": 1e-8,
+//                 "gamma": 0.999994, "clip_grad_norm": 20},
+//   "loss_weights": {"l1": 1, "perceptual": 0, "intermediate_loss_0_l1": 1,
+//                    "intermediate_loss_1_l1": 1, "intermediate_loss_2_l1": 1,
+//                    "intermediate_loss_3_l1": 1, "smooth_layers": 0.01},
+//   "sampling": {"min_views": 2, "max_views": 8, "novel_views": 4, "window": 0,
+//                "crop": [0, 0],            // [height, width]; 0 = the whole image
+//                "zoom": [1.0],             // zoom factors >= 1, one drawn per sample
+//                "mixup_probability": 0.9, "mixup_lambda": [0.0, 0.4]}
+// }
+#include "simpli/model/network/config.h"
+
+#include <simpli/ocl/program_cache.h>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace simpli::training {
+
+struct OptimizerConfig {
+  double lr = 3e-4;
+  double beta1 = 0.9, beta2 = 0.999, eps = 1e-8;
+  double gamma = 0.999994; ///< ExponentialLR factor per step
+  double clipGradNorm = 20.0;
+};
+
+/// Per-sample drawing of sources and targets (sampler.h).
+struct SamplingConfig {
+  int minViews = 2, maxViews = 8; ///< V range, clipped to frames - 1
+  int novelViews = 4;             ///< N: up to this many targets (fewer when the scene is short)
+  /// Frames in the window of consecutive frames the views are drawn from; it is widened to
+  /// V + N and clipped to the scene; 0 = the whole scene.
+  int window = 0;
+  int cropHeight = 0, cropWidth = 0; ///< random crop (same window for every view); 0 = none
+  /// Zoom factors, one drawn uniformly per sample (for every view): the images are resized by
+  /// it and centre-cropped back to their size before the random crop (the reference's random
+  /// resize, §8.3: {1.0, 1.2, ..., 1.6}). {1.0} = no zoom and no random draw.
+  std::vector<double> zoomScales{1.0};
+  double mixupProbability = 0.9; ///< per source image
+  double mixupLambdaMin = 0.0, mixupLambdaMax = 0.4;
+};
+
+/// The loss terms, in log order, with the reference's key names.
+const std::vector<std::string>& lossTermNames();
+
+struct TrainingConfig {
+  network::NetworkConfig network;
+  ocl::Dtype dtype = ocl::Dtype::F32;
+  uint64_t seed = 0;
+  int64_t steps = 1000;
+  int64_t checkpointEvery = 100;
+  int corrections = -1;
+  int maxFragments = 16;
+  /// Decay of the exponential moving average of the weights written beside them
+  /// (training/average.h); 0 = none.
+  double emaDecay = 0;
+  OptimizerConfig optimizer;
+  std::map<std::string, double> lossWeights; ///< every lossTermNames() key
+  SamplingConfig sampling;
+
+  TrainingConfig(); ///< the defaults above; `network` is NetworkConfig{} until set
+  double weight(const std::string& term) const;
+  /// Throws simpli::Error naming `source` and the field for a bad value.
+  void validate(const std::string& source) const;
+};
+
+/// Parses a training config; relative network paths are resolved against `baseDir`.
+TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::string& source,
+                                   const std::string& baseDir);
+TrainingConfig loadTrainingConfig(const std::string& path);
+/// Self-contained JSON (the network inline); parseTrainingConfig reads it back to an equal
+/// config.
+std::string toJson(const TrainingConfig& config);
+
+/// The settings a resumed run must share with the run it continues (everything except steps
+/// and checkpoint_every); returns the first differing field's name, or "" when they agree.
+std::string firstIncompatibleField(const TrainingConfig& a, const TrainingConfig& b);
+
+/// A network config for commands that take either kind of file (`simpli eval --config`): a
+/// training config (its "network") or a network config.
+network::NetworkConfig loadNetworkOrTrainingConfig(const std::string& path);
+
+/// The training config a user names (`simpli train --config`, vtkSIMPLITrain's Config): a name
+/// is the shipped <networkConfigDir()>/training/<name>.json if it exists, else the network
+/// config of that name trained with the default settings; a path (containing '/' or ending in
+/// .json) is a training config or, failing that, a network config with default settings.
+/// Throws simpli::Error naming the config.
+TrainingConfig resolveTrainingConfig(const std::string& nameOrPath);
+
+} // namespace simpli::training

@@ -1,0 +1,40 @@
+#pragma once
+// Where training scenes come from: a folder of scenes (every subfolder a scene readScene
+// understands), a single scene folder, or the procedural synthetic source ("synthetic" or
+// "synthetic:SEED": endless random scenes generated in memory).
+#include "simpli/model/scene/scene.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace simpli::training {
+
+struct DataOptions {
+  /// Resize every image to height x width (relative intrinsics unchanged); 0 = keep (scene
+  /// readers already floor sizes to multiples of 16).
+  int height = 0, width = 0;
+};
+
+class TrainingData {
+public:
+  virtual ~TrainingData() = default;
+  /// Number of scenes; 0 means endless (synthetic): any index is valid.
+  virtual uint64_t sceneCount() const = 0;
+  /// Scene `index`; the reference stays valid until the next call.
+  virtual const scene::Scene& scene(uint64_t index) = 0;
+  /// One line for logs: "3 scenes under /data" or "synthetic scenes, seed 7".
+  virtual std::string describe() const = 0;
+};
+
+/// Opens `spec` (see the header comment). Folder scenes are read lazily and kept in memory.
+/// Throws simpli::Error naming the path when it does not exist, holds no scene, or a subfolder
+/// is not a readable scene.
+std::unique_ptr<TrainingData> openTrainingData(const std::string& spec,
+                                               const DataOptions& options = {});
+
+/// "WxH" (e.g. "192x128", as every simpli --size) -> width, height, both positive multiples
+/// of 16; `what` names the option in errors.
+void parseWidthHeight(const std::string& text, const std::string& what, int& width, int& height);
+
+} // namespace simpli::training

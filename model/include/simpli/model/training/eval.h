@@ -1,0 +1,46 @@
+#pragma once
+// Evaluation with the paper's protocol: for every scene (or `scenes` synthetic scenes), R
+// repeats of: draw V sources and N targets from a window of consecutive frames (training/sampler.h,
+// no crop, no MixUp), build the layers from the sources, render every target, and score it
+// against the held-out photo with PSNR / SSIM on the central 90 % crop (metrics/image_quality.h).
+// The same samples are scored for the nearest-source-view baseline: the source image whose camera
+// centre is closest to the target's, compared as it is. The samples depend only on the data and
+// the options (not on the network), so evaluations of several networks are paired view by view.
+#include "simpli/model/metrics/image_quality.h"
+#include "simpli/model/network/network.h"
+#include "simpli/model/raster/rasterizer.h"
+#include "simpli/model/training/data.h"
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace simpli::training {
+
+struct EvalOptions {
+  int repeats = 1;
+  int views = 4;      ///< V
+  int novelViews = 4; ///< N (fewer when the scene is short)
+  int window = 0;     ///< frame window (0 = whole scene)
+  int scenes = 1;     ///< scenes to use from endless (synthetic) data
+  uint64_t seed = 0;
+  int corrections = -1;
+  raster::RasterSettings raster;
+  double keptArea = 0.9;
+};
+
+struct EvalResult {
+  std::vector<metrics::ImageQuality> model, baseline; ///< per target view
+  metrics::MeanStd modelPsnr, modelSsim, baselinePsnr, baselineSsim;
+  /// Per sample: the forward pass (building the surfaces), after one untimed warm-up pass.
+  std::vector<double> buildMs;
+  metrics::MeanStd build; ///< of buildMs
+};
+
+/// Index of the camera in `sources` whose centre is closest to `target`'s (first on ties).
+int nearestSourceView(const std::vector<scene::Camera>& sources, const scene::Camera& target);
+
+EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const EvalOptions& options,
+                    const std::function<void(int done, int total)>& progress = {});
+
+} // namespace simpli::training

@@ -1,0 +1,45 @@
+#pragma once
+// The training losses of the reference (simpli_reference.md §8.1), by key name:
+//  l1                     masked L1 on the novel views, mask = rendered opacity (ops_loss.h)
+//  perceptual             VGG-19 loss (training/vgg.h), same mask; only with a VGG weights file
+//  intermediate_loss_0_l1 mean L1: level-1 MPI render (channels 9-11, H/2) vs the clean sources
+//                         nearest-downsampled to H/2 (F.interpolate's default mode)
+//  intermediate_loss_k_l1 (k = 1..3) mean L1: the mesh render that fed correction k vs the
+//                         clean sources at H
+//  smooth_layers          smoothLayersLoss of the final layer depths [1, L, H, W]
+// total = sum of weight * term over the terms with a positive weight.
+#include "simpli/model/generator/generator.h"
+#include "simpli/model/training/config.h"
+#include "simpli/model/training/vgg.h"
+
+#include <simpli/ocl/tensor.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace simpli::training {
+
+struct LossTerms {
+  /// Every term that was computed (unweighted), in lossTermNames() order.
+  std::vector<std::pair<std::string, ocl::Tensor>> terms;
+  ocl::Tensor total; ///< [1]
+
+  /// The value of a computed term, NaN when it was not computed.
+  double value(const std::string& name) const;
+};
+
+/// Nearest-neighbour resize of x [..., H, W] to outH x outW as F.interpolate(mode='nearest'):
+/// source index floor(dst * in / out). Differentiable (a gather).
+ocl::Tensor resizeNearest(const ocl::Tensor& x, int64_t outH, int64_t outW);
+
+/// novelColour [N, 3, H, W], novelOpacity [N, 1, H, W], novelTargets [N, 3, H, W],
+/// cleanSources [V, 3, H, W]; `output` must carry intermediateSourceRenders (keepIntermediates)
+/// for the intermediate terms (terms without a render are skipped). `vgg` may be null or
+/// unloaded: then the perceptual term is skipped.
+LossTerms computeLosses(const TrainingConfig& config, const generator::GeneratorOutput& output,
+                        const ocl::Tensor& novelColour, const ocl::Tensor& novelOpacity,
+                        const ocl::Tensor& novelTargets, const ocl::Tensor& cleanSources,
+                        const Vgg19Features* vgg);
+
+} // namespace simpli::training

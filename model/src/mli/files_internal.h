@@ -1,0 +1,67 @@
+#pragma once
+// Private pieces of the MLI reader/writer (mli/files.h): meta.json, file names, image files and
+// the atomic folder write. Not installed; used by mli_io*.cpp only.
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "simpli/model/mli/files.h"
+#include "simpli/model/mli/mli.h"
+
+namespace simpli::mli {
+
+namespace fs = std::filesystem;
+
+/// The value of meta.json's "format" for the lossless form (absent in the reference form).
+inline constexpr const char* kLosslessFormatTag = "simpli-mli-float";
+
+/// Layer file/key name: layerName("layer_depth_", 3, ".jpg") == "layer_depth_03.jpg". The index
+/// has at least two digits, like the reference's "%02d".
+std::string layerName(const std::string& prefix, int k, const std::string& suffix = "");
+
+/// Everything meta.json says, checked (see readMeta).
+struct Meta {
+  MLIFormat format = MLIFormat::Jpeg;
+  int height = 0, width = 0;
+  scene::Camera camera;                          ///< width/height filled from frame_size
+  std::vector<std::pair<double, double>> ranges; ///< per layer [lo, hi]; size() = L
+};
+
+/// Reads and checks `folder`/meta.json: valid JSON object; frame_size = two integers in
+/// [2, 65535]; extrinsic_re = 12 numbers forming a rotation and a translation; intrinsics_re =
+/// 9 numbers [fx, 0, cx, 0, fy, cy, 0, 0, 1] with fx, fy > 0; layer_depth_00 .. layer_depth_<L-1>
+/// present without gaps, each [lo, hi] with 0 < lo <= hi; for the lossless form "format" and a
+/// matching "num_layers". Errors name the file, the key and the value.
+Meta readMeta(const fs::path& folder);
+
+/// Writes meta.json for `mli` into `folder` (the reference keys, plus "format" and "num_layers"
+/// for the lossless form). ranges[k] = [lo, hi] of layer k's depth.
+void writeMeta(const fs::path& folder, const MLI& mli,
+               const std::vector<std::pair<double, double>>& ranges, MLIFormat format);
+
+/// [min, max] of a layer's depth.
+std::pair<double, double> depthRange(const MLILayer& layer);
+
+/// cv::imread with checks: the file exists, decodes, and is H x W; errors name the file.
+cv::Mat readLayerImage(const fs::path& file, int imreadFlags, int H, int W);
+
+/// cv::imwrite with checks; errors (including OpenCV exceptions) name the file.
+void writeLayerImage(const fs::path& file, const cv::Mat& image, const std::vector<int>& params);
+
+MLI readJpegLayers(const fs::path& folder, const Meta& meta, const MLIReadOptions& options);
+void writeJpegLayers(const fs::path& folder, const MLI& mli);
+MLI readLosslessLayers(const fs::path& folder, const Meta& meta);
+void writeLosslessLayers(const fs::path& folder, const MLI& mli);
+
+/// Creates a hidden temporary sibling of `target`, lets `fill` write into it, flushes it to
+/// disk, then moves it to `target` (atomically exchanging with an existing folder where the
+/// file system supports it). On any failure the temporary folder is removed and `target` is
+/// left as it was. An existing `target` must be a folder that is empty or holds a meta.json.
+void writeFolderAtomically(const fs::path& target,
+                           const std::function<void(const fs::path& tmp)>& fill);
+
+} // namespace simpli::mli

@@ -1,0 +1,230 @@
+// Random forward-facing scenes (see synthetic/scene_generator.h).
+#include "simpli/model/synthetic/scene.h"
+
+#include "simpli/error.h"
+#include "simpli/model/synthetic/camera_path.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+namespace simpli::synthetic {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// Independent random streams derived from the scene seed.
+enum Stream : uint64_t { kCameras = 2, kBackground = 3, kKinds = 4, kObjects = 5, kLight = 6 };
+
+template <typename T> void checkRange(const char* field, T value, T lo, T hi) {
+  if (!(value >= lo && value <= hi))
+    fail("synthetic scene: '", field, "' is ", value, ", expected ", lo, " .. ", hi);
+}
+
+Eigen::Matrix3d rotation(double yaw, double pitch, double roll) {
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()))
+      .toRotationMatrix();
+}
+
+CameraPathParams pathParams(const SyntheticSceneParams& p) {
+  CameraPathParams c;
+  c.views = p.views;
+  c.width = p.width;
+  c.height = p.height;
+  c.fx = p.fx();
+  c.fy = p.fy();
+  c.maxOffset = p.translation * p.nearDepth;
+  c.maxRotationDegrees = p.rotationDegrees;
+  return c;
+}
+
+Shape makeBackground(const SyntheticSceneParams& p, Random& rng) {
+  Shape bg;
+  bg.kind = ShapeKind::Plane;
+  bg.role = ShapeRole::Background;
+  const double depth = rng.uniform(p.backgroundDepthMin, p.backgroundDepthMax);
+  // Nearly fronto-parallel in about a third of the scenes, clearly slanted otherwise.
+  const double slant = p.maxBackgroundSlantDegrees * kDeg *
+                       (rng.chance(0.3) ? rng.uniform(0.0, 0.12) : rng.uniform(0.3, 1.0));
+  const double azimuth = rng.uniform(0.0, 2.0 * M_PI);
+  // Normal towards the cameras (-z), tilted by `slant`.
+  const Eigen::Vector3d normal(std::sin(slant) * std::cos(azimuth),
+                               std::sin(slant) * std::sin(azimuth), -std::cos(slant));
+  bg.centre = Eigen::Vector3d(0, 0, depth);
+  bg.axes = frameFromAxis(normal, Eigen::Vector3d::UnitY());
+  bg.size = Eigen::Vector3d::Zero();
+  bg.texture = randomTexture(rng, depth / (p.fx() * p.width), 6, 30);
+  return bg;
+}
+
+// Signed distance of a point from the background plane, positive on the cameras' side.
+double cameraSideDistance(const Shape& bg, const Eigen::Vector3d& x) {
+  return bg.axes.col(2).dot(x - bg.centre);
+}
+
+// The shape of one object of the given role, centred at the origin, `scale` = half the
+// apparent size in scene units at depth z; `pixel` = scene units per pixel at depth z.
+Shape makeObjectShape(ShapeRole role, double scale, double pixel, Random& rng) {
+  Shape s;
+  s.role = role;
+  switch (role) {
+  case ShapeRole::FrontoPlane:
+    s.kind = ShapeKind::Rectangle;
+    s.size = Eigen::Vector3d(scale * rng.uniform(0.6, 1.4), scale * rng.uniform(0.6, 1.4), 0);
+    break;
+  case ShapeRole::SlantedPlane:
+    s.kind = ShapeKind::Rectangle;
+    s.axes = rotation(rng.sign() * rng.uniform(25, 60) * kDeg, rng.uniform(-30, 30) * kDeg,
+                      rng.uniform(-20, 20) * kDeg);
+    s.size = Eigen::Vector3d(scale * rng.uniform(0.6, 1.4), scale * rng.uniform(0.6, 1.4), 0);
+    break;
+  case ShapeRole::Box:
+    s.kind = ShapeKind::Box;
+    s.axes = rotation(rng.uniform(-45, 45) * kDeg, rng.uniform(-25, 25) * kDeg,
+                      rng.uniform(-15, 15) * kDeg);
+    s.size = scale *
+             Eigen::Vector3d(rng.uniform(0.4, 1.0), rng.uniform(0.4, 1.0), rng.uniform(0.3, 1.0));
+    break;
+  case ShapeRole::Sphere:
+    s.kind = ShapeKind::Sphere;
+    // Polar axis up (-y), longitude seam away from the cameras (+z).
+    s.axes = frameFromAxis(-Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ());
+    s.size = Eigen::Vector3d::Constant(scale * rng.uniform(0.5, 1.0));
+    break;
+  case ShapeRole::Pole: {
+    // Nearly vertical, 2 .. 6 pixels thick, often reaching beyond the image.
+    const Eigen::Vector3d axis(rng.uniform(-0.1, 0.1), 1.0, rng.uniform(-0.2, 0.2));
+    s.kind = ShapeKind::Cylinder;
+    s.axes = frameFromAxis(axis, Eigen::Vector3d::UnitZ());
+    s.size = Eigen::Vector3d(pixel * rng.uniform(1.0, 3.0), 0, scale * rng.uniform(2.0, 5.0));
+    break;
+  }
+  case ShapeRole::Wire: {
+    // Roughly horizontal, 1.4 .. 4 pixels thick, long.
+    const Eigen::Vector3d axis(1.0, rng.uniform(-0.4, 0.4), rng.uniform(-0.3, 0.3));
+    s.kind = ShapeKind::Cylinder;
+    s.axes = frameFromAxis(axis, Eigen::Vector3d::UnitZ());
+    s.size = Eigen::Vector3d(pixel * rng.uniform(0.7, 2.0), 0, scale * rng.uniform(2.0, 5.0));
+    break;
+  }
+  case ShapeRole::Background:
+    fail("makeObjectShape: the background is not an object");
+  }
+  return s;
+}
+
+constexpr ShapeRole kObjectRoles[] = {ShapeRole::FrontoPlane, ShapeRole::SlantedPlane,
+                                      ShapeRole::Box,         ShapeRole::Sphere,
+                                      ShapeRole::Pole,        ShapeRole::Wire};
+constexpr int kRoleCount = 6;
+
+Shape placeObject(const SyntheticSceneParams& p, const Shape& bg, ShapeRole role,
+                  const std::vector<Shape>& placed, int index, Random& rng) {
+  const double fx = p.fx(), fy = p.fy();
+  // Far limit for the objects' fronts: well in front of the background's nearest visible part.
+  const double zFar = std::max(p.nearDepth * 1.2, 0.6 * p.backgroundDepthMin);
+  for (int attempt = 0; attempt < 200; ++attempt) {
+    // Disparity-uniform front depth: as many objects per unit of parallax near as far.
+    const double zFront = 1.0 / rng.uniform(1.0 / zFar, 1.0 / p.nearDepth);
+    double u = rng.uniform(0.1, 0.9), v = rng.uniform(0.1, 0.9);
+    if (!placed.empty() && rng.chance(0.5)) {
+      // Next to an earlier object, so that the two overlap in the image (occlusion).
+      const Shape& other = placed[size_t(rng.uniformInt(0, int(placed.size()) - 1))];
+      u = 0.5 + fx * other.centre.x() / other.centre.z() + rng.uniform(-0.12, 0.12);
+      v = 0.5 + fy * other.centre.y() / other.centre.z() + rng.uniform(-0.12, 0.12);
+      u = std::min(0.95, std::max(0.05, u));
+      v = std::min(0.95, std::max(0.05, v));
+    }
+    const double scale = 0.5 * rng.uniform(0.12, 0.35) * zFront / fx;
+    const double pixel = zFront / (fx * p.width);
+    Shape s = makeObjectShape(role, scale, pixel, rng);
+    s.texture = randomTexture(rng, pixel, 3, 20);
+    // Centre on the ray through (u, v) at the depth where the shape's front is at zFront.
+    const Eigen::Vector3d ray((u - 0.5) / fx, (v - 0.5) / fy, 1.0);
+    s.centre = (zFront + s.extent(-Eigen::Vector3d::UnitZ())) * ray;
+    const double clearance = cameraSideDistance(bg, s.centre) - s.extent(-bg.axes.col(2));
+    if (clearance > 0.05 * zFront)
+      return s;
+  }
+  fail("synthetic scene (seed ", p.seed, "): cannot place object ", index, " (", toString(role),
+       ") in front of the background");
+}
+
+} // namespace
+
+double SyntheticSceneParams::fx() const {
+  return 0.5 / std::tan(0.5 * fovDegrees * kDeg);
+}
+double SyntheticSceneParams::fy() const {
+  return fx() * double(width) / double(height);
+}
+
+void SyntheticSceneParams::validate() const {
+  checkRange("views", views, 1, 10000);
+  checkRange("width", width, 1, 16384);
+  checkRange("height", height, 1, 16384);
+  checkRange("objects", objects, 0, 1000);
+  checkRange("fovDegrees", fovDegrees, 5.0, 120.0);
+  checkRange("nearDepth", nearDepth, 1e-3, 1e6);
+  checkRange("backgroundDepthMin", backgroundDepthMin, 2.0 * nearDepth, 1e7);
+  checkRange("backgroundDepthMax", backgroundDepthMax, backgroundDepthMin, 1e7);
+  checkRange("maxBackgroundSlantDegrees", maxBackgroundSlantDegrees, 0.0, 45.0);
+  checkRange("translation", translation, 0.0, 0.5);
+  checkRange("rotationDegrees", rotationDegrees, 0.0, 10.0);
+  checkRange("antialias", antialias, 1, 16);
+  // Every camera ray must meet the background in front of the camera: the ray farthest from
+  // the optical axis (an image corner, turned further by the largest camera rotation) must
+  // stay clear of the tilted plane's horizon, with a margin of 10 degrees.
+  const double corner = std::atan(std::hypot(0.5 / fx(), 0.5 / fy())) / kDeg;
+  const double worst = corner + maxBackgroundSlantDegrees + std::sqrt(3.0) * rotationDegrees;
+  if (worst > 80.0)
+    fail("synthetic scene: the image corners are ", corner, " degrees off-axis (fovDegrees ",
+         fovDegrees, ", size ", width, "x", height, "); with 'maxBackgroundSlantDegrees' ",
+         maxBackgroundSlantDegrees, " and 'rotationDegrees' ", rotationDegrees,
+         " the background could be missed (", worst,
+         " > 80 degrees): use a smaller field of view or slant, or a less elongated size");
+}
+
+SyntheticScene makeSyntheticScene(const SyntheticSceneParams& params, const Shape& background,
+                                  const std::vector<Shape>& objects) {
+  params.validate();
+  SyntheticScene scene;
+  scene.params = params;
+  scene.background = background;
+  scene.objects = objects;
+  Random camRng(deriveSeed(params.seed, kCameras));
+  scene.cameras = makeCameraPath(pathParams(params), camRng);
+  return scene;
+}
+
+SyntheticScene generateSyntheticScene(const SyntheticSceneParams& params) {
+  params.validate();
+  Random bgRng(deriveSeed(params.seed, kBackground));
+  const Shape background = makeBackground(params, bgRng);
+
+  // Roles: shuffled blocks of all six, so every scene with >= 6 objects has each kind once.
+  Random kindRng(deriveSeed(params.seed, kKinds));
+  std::vector<ShapeRole> roles;
+  while (int(roles.size()) < params.objects)
+    for (int k : kindRng.permutation(kRoleCount))
+      roles.push_back(kObjectRoles[k]);
+
+  std::vector<Shape> objects;
+  for (int i = 0; i < params.objects; ++i) {
+    Random objRng(deriveSeed(deriveSeed(params.seed, kObjects), uint64_t(i)));
+    objects.push_back(placeObject(params, background, roles[size_t(i)], objects, i, objRng));
+  }
+
+  SyntheticScene scene = makeSyntheticScene(params, background, objects);
+  Random lightRng(deriveSeed(params.seed, kLight));
+  // From above (-y) and from the cameras' side (-z), as if lit over the photographer's shoulder.
+  scene.lightDirection =
+      Eigen::Vector3d(lightRng.uniform(-0.6, 0.6), lightRng.uniform(-1.0, -0.3), -1.0).normalized();
+  return scene;
+}
+
+} // namespace simpli::synthetic

@@ -1,0 +1,303 @@
+// TrainingConfig: strict JSON reading (unknown keys rejected), writing and validation.
+#include "simpli/model/training/config.h"
+
+#include "simpli/model/network/loader.h"
+
+#include "io/json_object_reader.h"
+#include "simpli/error.h"
+#include "simpli/model/io/files.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+namespace simpli::training {
+namespace {
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+using io::jsonExcerpt;
+using io::JsonObjectReader;
+
+network::NetworkConfig resolveNetwork(const json& v, const std::string& source,
+                                      const std::string& baseDir) {
+  if (v.is_object())
+    return network::parseNetworkConfig(v.dump(), source + " (field \"network\")");
+  if (!v.is_string())
+    fail(source, ": field \"network\" is ", io::jsonExcerpt(v),
+         ", expected \"official-4l\", \"official-8l\", a file name or an object");
+  const std::string name = v.get<std::string>();
+  if (name == "official-4l")
+    return network::officialConfig(4);
+  if (name == "official-8l")
+    return network::officialConfig(8);
+  fs::path p(name);
+  if (p.is_relative() && !baseDir.empty())
+    p = fs::path(baseDir) / p;
+  if (!fs::exists(p))
+    fail(source, ": field \"network\": network config '", p.string(), "' does not exist");
+  return network::loadNetworkConfig(p.string());
+}
+
+} // namespace
+
+const std::vector<std::string>& lossTermNames() {
+  static const std::vector<std::string> names{"l1",
+                                              "perceptual",
+                                              "intermediate_loss_0_l1",
+                                              "intermediate_loss_1_l1",
+                                              "intermediate_loss_2_l1",
+                                              "intermediate_loss_3_l1",
+                                              "smooth_layers"};
+  return names;
+}
+
+TrainingConfig::TrainingConfig() {
+  // configs/tblock4_train.yaml (simpli_reference.md §8.1, §14 item 2).
+  lossWeights = {{"l1", 1.0},
+                 {"perceptual", 0.0},
+                 {"intermediate_loss_0_l1", 1.0},
+                 {"intermediate_loss_1_l1", 1.0},
+                 {"intermediate_loss_2_l1", 1.0},
+                 {"intermediate_loss_3_l1", 1.0},
+                 {"smooth_layers", 0.01}};
+}
+
+double TrainingConfig::weight(const std::string& term) const {
+  auto it = lossWeights.find(term);
+  if (it == lossWeights.end())
+    fail("training config: unknown loss term '", term, "'");
+  return it->second;
+}
+
+void TrainingConfig::validate(const std::string& source) const {
+  network.validate(source + " (network)");
+  const SamplingConfig& s = sampling;
+  auto bad = [&](const char* field, auto value, const char* why) {
+    fail(source, ": field \"", field, "\" = ", value, ": ", why);
+  };
+  if (steps < 0)
+    bad("steps", steps, "must be >= 0");
+  if (checkpointEvery < 1)
+    bad("checkpoint_every", checkpointEvery, "must be >= 1");
+  if (!(emaDecay >= 0 && emaDecay < 1))
+    bad("ema_decay", emaDecay, "must be in [0, 1) (0 = no average)");
+  if (corrections < -1 || corrections > network.mliCorrections())
+    fail(source, ": field \"corrections\" = ", corrections, ": must be -1 .. ",
+         network.mliCorrections(), " (the network's correction steps)");
+  if (maxFragments < 1 || maxFragments > 64)
+    bad("max_fragments", maxFragments, "must be 1 .. 64");
+  const OptimizerConfig& o = optimizer;
+  if (!(o.lr > 0))
+    bad("optimizer.lr", o.lr, "must be > 0");
+  if (!(o.beta1 >= 0 && o.beta1 < 1))
+    bad("optimizer.beta1", o.beta1, "must be in [0, 1)");
+  if (!(o.beta2 >= 0 && o.beta2 < 1))
+    bad("optimizer.beta2", o.beta2, "must be in [0, 1)");
+  if (!(o.eps > 0))
+    bad("optimizer.eps", o.eps, "must be > 0");
+  if (!(o.gamma > 0 && o.gamma <= 1))
+    bad("optimizer.gamma", o.gamma, "must be in (0, 1]");
+  if (!(o.clipGradNorm > 0))
+    bad("optimizer.clip_grad_norm", o.clipGradNorm, "must be > 0");
+  for (const auto& [term, w] : lossWeights)
+    if (!(w >= 0) || !std::isfinite(w))
+      fail(source, ": field \"loss_weights.", term, "\" = ", w, ": must be finite and >= 0");
+  if (s.minViews < 1)
+    bad("sampling.min_views", s.minViews, "must be >= 1");
+  if (s.maxViews < s.minViews)
+    fail(source, ": field \"sampling.max_views\" = ", s.maxViews, ": must be >= min_views (",
+         s.minViews, ")");
+  if (s.novelViews < 1)
+    bad("sampling.novel_views", s.novelViews, "must be >= 1");
+  if (s.window < 0)
+    bad("sampling.window", s.window, "must be >= 0 (0 = the whole scene)");
+  if (s.cropHeight < 0 || s.cropWidth < 0 || (s.cropHeight == 0) != (s.cropWidth == 0))
+    fail(source, ": field \"sampling.crop\" = [", s.cropHeight, ", ", s.cropWidth,
+         "]: both 0 (no crop) or both positive");
+  if (s.cropHeight % 16 != 0 || s.cropWidth % 16 != 0)
+    fail(source, ": field \"sampling.crop\" = [", s.cropHeight, ", ", s.cropWidth,
+         "]: the network needs multiples of 16");
+  for (double z : s.zoomScales)
+    if (!(z >= 1 && z <= 4))
+      bad("sampling.zoom", z, "every factor must be in [1, 4]");
+  if (!(s.mixupProbability >= 0 && s.mixupProbability <= 1))
+    bad("sampling.mixup_probability", s.mixupProbability, "must be in [0, 1]");
+  if (!(s.mixupLambdaMin >= 0 && s.mixupLambdaMin <= s.mixupLambdaMax && s.mixupLambdaMax <= 1))
+    fail(source, ": field \"sampling.mixup_lambda\" = [", s.mixupLambdaMin, ", ", s.mixupLambdaMax,
+         "]: need 0 <= low <= high <= 1");
+}
+
+TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::string& source,
+                                   const std::string& baseDir) {
+  json root;
+  try {
+    root = json::parse(jsonText);
+  } catch (const json::exception& e) {
+    fail(source, ": not valid JSON: ", e.what());
+  }
+  TrainingConfig c;
+  io::JsonObjectReader top(root, source, "");
+  const json* net = top.find("network");
+  if (!net)
+    fail(source, ": missing field \"network\"");
+  c.network = resolveNetwork(*net, source, baseDir);
+  if (const json* d = top.find("dtype")) {
+    if (*d == "f32")
+      c.dtype = ocl::Dtype::F32;
+    else if (*d == "f64")
+      c.dtype = ocl::Dtype::F64;
+    else
+      fail(source, ": field \"dtype\" is ", io::jsonExcerpt(*d), ", expected \"f32\" or \"f64\"");
+  }
+  if (const json* v = top.find("seed")) {
+    if (!v->is_number_unsigned())
+      fail(source, ": field \"seed\" is ", io::jsonExcerpt(*v), ", expected an integer >= 0");
+    c.seed = v->get<uint64_t>();
+  }
+  top.readInteger("steps", c.steps);
+  top.readInteger("checkpoint_every", c.checkpointEvery);
+  top.readInteger("corrections", c.corrections);
+  top.readInteger("max_fragments", c.maxFragments);
+  top.readNumber("ema_decay", c.emaDecay);
+  if (const json* o = top.find("optimizer")) {
+    io::JsonObjectReader f(*o, source, "optimizer");
+    f.readNumber("lr", c.optimizer.lr);
+    f.readNumber("beta1", c.optimizer.beta1);
+    f.readNumber("beta2", c.optimizer.beta2);
+    f.readNumber("eps", c.optimizer.eps);
+    f.readNumber("gamma", c.optimizer.gamma);
+    f.readNumber("clip_grad_norm", c.optimizer.clipGradNorm);
+    f.finish();
+  }
+  if (const json* w = top.find("loss_weights")) {
+    io::JsonObjectReader f(*w, source, "loss_weights");
+    for (const std::string& term : lossTermNames())
+      f.readNumber(term, c.lossWeights[term]);
+    f.finish();
+  }
+  if (const json* s = top.find("sampling")) {
+    io::JsonObjectReader f(*s, source, "sampling");
+    SamplingConfig& sc = c.sampling;
+    f.readInteger("min_views", sc.minViews);
+    f.readInteger("max_views", sc.maxViews);
+    f.readInteger("novel_views", sc.novelViews);
+    f.readInteger("window", sc.window);
+    double ch = sc.cropHeight, cw = sc.cropWidth;
+    f.readPair("crop", ch, cw);
+    if (ch != std::floor(ch) || cw != std::floor(cw))
+      fail(source, ": field \"sampling.crop\" = [", ch, ", ", cw, "]: expected integers");
+    sc.cropHeight = int(ch);
+    sc.cropWidth = int(cw);
+    f.readNumbers("zoom", sc.zoomScales);
+    f.readNumber("mixup_probability", sc.mixupProbability);
+    f.readPair("mixup_lambda", sc.mixupLambdaMin, sc.mixupLambdaMax);
+    f.finish();
+  }
+  top.finish();
+  c.validate(source);
+  return c;
+}
+
+TrainingConfig loadTrainingConfig(const std::string& path) {
+  const std::vector<unsigned char> bytes = io::readFileBytes(path, "training config");
+  const std::string base = fs::path(path).parent_path().string();
+  return parseTrainingConfig(std::string(bytes.begin(), bytes.end()), path, base);
+}
+
+std::string toJson(const TrainingConfig& c) {
+  json root;
+  root["network"] = json::parse(network::toJson(c.network));
+  root["dtype"] = c.dtype == ocl::Dtype::F64 ? "f64" : "f32";
+  root["seed"] = c.seed;
+  root["steps"] = c.steps;
+  root["checkpoint_every"] = c.checkpointEvery;
+  root["corrections"] = c.corrections;
+  root["max_fragments"] = c.maxFragments;
+  root["ema_decay"] = c.emaDecay;
+  root["optimizer"] = {{"lr", c.optimizer.lr},       {"beta1", c.optimizer.beta1},
+                       {"beta2", c.optimizer.beta2}, {"eps", c.optimizer.eps},
+                       {"gamma", c.optimizer.gamma}, {"clip_grad_norm", c.optimizer.clipGradNorm}};
+  json w = json::object();
+  for (const std::string& term : lossTermNames())
+    w[term] = c.weight(term);
+  root["loss_weights"] = w;
+  const SamplingConfig& s = c.sampling;
+  root["sampling"] = {{"min_views", s.minViews},
+                      {"max_views", s.maxViews},
+                      {"novel_views", s.novelViews},
+                      {"window", s.window},
+                      {"crop", {s.cropHeight, s.cropWidth}},
+                      {"zoom", s.zoomScales},
+                      {"mixup_probability", s.mixupProbability},
+                      {"mixup_lambda", {s.mixupLambdaMin, s.mixupLambdaMax}}};
+  return root.dump(2) + "\n";
+}
+
+std::string firstIncompatibleField(const TrainingConfig& a, const TrainingConfig& b) {
+  json ja = json::parse(toJson(a)), jb = json::parse(toJson(b));
+  for (const char* k : {"steps", "checkpoint_every"}) {
+    ja.erase(k);
+    jb.erase(k);
+  }
+  for (auto it = ja.begin(); it != ja.end(); ++it)
+    if (!jb.contains(it.key()) || jb[it.key()] != it.value())
+      return it.key();
+  return "";
+}
+
+network::NetworkConfig loadNetworkOrTrainingConfig(const std::string& path) {
+  const std::vector<unsigned char> bytes = io::readFileBytes(path, "config");
+  const std::string text(bytes.begin(), bytes.end());
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::exception& e) {
+    fail(path, ": not valid JSON: ", e.what());
+  }
+  if (root.is_object() && root.contains("network"))
+    return parseTrainingConfig(text, path, fs::path(path).parent_path().string()).network;
+  return network::parseNetworkConfig(text, path);
+}
+
+namespace {
+
+bool looksLikePath(const std::string& s) {
+  return s.find('/') != std::string::npos ||
+         (s.size() > 5 && s.compare(s.size() - 5, 5, ".json") == 0);
+}
+
+} // namespace
+
+TrainingConfig resolveTrainingConfig(const std::string& config) {
+  namespace fs = std::filesystem;
+  if (!looksLikePath(config)) {
+    const std::string shipped = network::networkConfigDir() + "/training/" + config + ".json";
+    if (fs::exists(shipped))
+      return loadTrainingConfig(shipped);
+    TrainingConfig out;
+    out.network = network::resolveNetworkConfig(config);
+    return out;
+  }
+  if (!fs::exists(config))
+    fail("Config '", config, "': the file does not exist");
+  try {
+    return loadTrainingConfig(config);
+  } catch (const Error& asTraining) {
+    // Not a training config: a network config trained with the default settings?
+    try {
+      TrainingConfig out;
+      out.network = network::resolveNetworkConfig(config);
+      return out;
+    } catch (const Error&) {
+      fail("Config '", config,
+           "' is neither a training config nor a network config; as a training config: ",
+           asTraining.what());
+    }
+  }
+}
+
+} // namespace simpli::training

@@ -1,0 +1,154 @@
+// Training scene sources: scene folders (read lazily, cached) and the procedural source.
+#include "simpli/model/training/data.h"
+
+#include "simpli/error.h"
+#include "simpli/model/synthetic/procedural_source.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <regex>
+
+namespace simpli::training {
+namespace {
+
+namespace fs = std::filesystem;
+
+void resizeScene(scene::Scene& scene, const DataOptions& o) {
+  if (o.height <= 0 || o.width <= 0)
+    return;
+  for (scene::SceneView& v : scene.views) {
+    if (!v.image.empty() && (v.image.width != o.width || v.image.height != o.height))
+      v.image = io::resizeImage(v.image, o.width, o.height);
+    // Relative intrinsics describe the image extent, which a resize maps onto itself.
+    v.camera.width = o.width;
+    v.camera.height = o.height;
+  }
+}
+
+class FolderData : public TrainingData {
+public:
+  FolderData(std::string root, std::vector<std::string> scenes, const DataOptions& o)
+      : root_(std::move(root)), paths_(std::move(scenes)), options_(o) {}
+  uint64_t sceneCount() const override { return paths_.size(); }
+  const scene::Scene& scene(uint64_t index) override {
+    if (index >= paths_.size())
+      fail("training data ", root_, ": scene index ", index, " out of range (", paths_.size(),
+           " scenes)");
+    auto it = cache_.find(index);
+    if (it == cache_.end()) {
+      scene::Scene s = scene::readScene(paths_[index]);
+      resizeScene(s, options_);
+      if (s.size() < 2)
+        fail("training data: scene ", paths_[index], " has ", s.size(),
+             " view(s); training needs at least 2 (a source and a target)");
+      it = cache_.emplace(index, std::move(s)).first;
+    }
+    return it->second;
+  }
+  std::string describe() const override {
+    return paths_.size() == 1 && paths_[0] == root_
+               ? "scene " + root_
+               : std::to_string(paths_.size()) + " scenes under " + root_;
+  }
+
+private:
+  std::string root_;
+  std::vector<std::string> paths_;
+  DataOptions options_;
+  std::map<uint64_t, scene::Scene> cache_;
+};
+
+class SyntheticData : public TrainingData {
+public:
+  SyntheticData(uint64_t seed, const DataOptions& o) : seed_(seed), source_(params(o), seed) {}
+  uint64_t sceneCount() const override { return 0; }
+  const scene::Scene& scene(uint64_t index) override {
+    if (!current_ || currentIndex_ != index) {
+      current_ = source_.sample(index).scene;
+      currentIndex_ = index;
+    }
+    return *current_;
+  }
+  std::string describe() const override {
+    return "synthetic scenes (seed " + std::to_string(seed_) + ", " +
+           std::to_string(source_.params().width) + "x" + std::to_string(source_.params().height) +
+           ")";
+  }
+
+private:
+  static synthetic::SyntheticSceneParams params(const DataOptions& o) {
+    synthetic::SyntheticSceneParams p;
+    if (o.height > 0 && o.width > 0) {
+      p.height = o.height;
+      p.width = o.width;
+    }
+    return p;
+  }
+  uint64_t seed_;
+  synthetic::ProceduralSceneSource source_;
+  std::optional<scene::Scene> current_;
+  uint64_t currentIndex_ = 0;
+};
+
+} // namespace
+
+void parseWidthHeight(const std::string& text, const std::string& what, int& width, int& height) {
+  static const std::regex pattern("^\\s*([0-9]{1,6})\\s*[xX]\\s*([0-9]{1,6})\\s*$");
+  std::smatch m;
+  if (!std::regex_match(text, m, pattern))
+    fail(what, " '", text, "': expected WIDTHxHEIGHT in pixels, e.g. 192x128");
+  width = std::stoi(m[1].str());
+  height = std::stoi(m[2].str());
+  if (height < 16 || width < 16 || height % 16 != 0 || width % 16 != 0)
+    fail(what, " '", text, "': height and width must be positive multiples of 16");
+}
+
+std::unique_ptr<TrainingData> openTrainingData(const std::string& spec, const DataOptions& o) {
+  if (spec == "synthetic" || spec.rfind("synthetic:", 0) == 0) {
+    uint64_t seed = 0;
+    if (spec.size() > 10) {
+      const std::string s = spec.substr(10);
+      if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos || s.size() > 19)
+        fail("training data '", spec, "': expected synthetic or synthetic:SEED (SEED >= 0)");
+      seed = std::stoull(s);
+    }
+    return std::make_unique<SyntheticData>(seed, o);
+  }
+  const fs::path root(spec);
+  if (!fs::exists(root))
+    fail("training data '", spec, "' does not exist");
+  if (!fs::is_directory(root))
+    fail("training data '", spec, "' is not a folder");
+  // A scene folder itself, or a folder of scene folders.
+  bool isScene = true;
+  try {
+    scene::detectSceneFormat(spec);
+  } catch (const Error&) {
+    isScene = false;
+  }
+  std::vector<std::string> scenes;
+  if (isScene) {
+    scenes.push_back(spec);
+  } else {
+    for (const fs::directory_entry& e : fs::directory_iterator(root)) {
+      const std::string name = e.path().filename().string();
+      if (!e.is_directory() || name.empty() || name[0] == '.')
+        continue;
+      try {
+        scene::detectSceneFormat(e.path().string());
+      } catch (const Error& err) {
+        fail("training data '", spec, "': subfolder '", name, "' is not a scene: ", err.what());
+      }
+      scenes.push_back(e.path().string());
+    }
+    std::sort(scenes.begin(), scenes.end());
+    if (scenes.empty())
+      fail("training data '", spec,
+           "' is neither a scene folder nor a folder of scene folders (no subfolders)");
+  }
+  return std::make_unique<FolderData>(spec, std::move(scenes), o);
+}
+
+} // namespace simpli::training

@@ -1,0 +1,72 @@
+// The reference's training losses (training/losses.h).
+#include "simpli/model/training/losses.h"
+
+#include "simpli/error.h"
+
+#include <simpli/ocl/autograd.h>
+#include <simpli/ocl/ops_elementwise.h>
+#include <simpli/ocl/ops_loss.h>
+#include <simpli/ocl/ops_shape.h>
+
+#include <cmath>
+#include <limits>
+
+namespace simpli::training {
+
+double LossTerms::value(const std::string& name) const {
+  for (const auto& [n, t] : terms)
+    if (n == name)
+      return t.item();
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+ocl::Tensor resizeNearest(const ocl::Tensor& x, int64_t outH, int64_t outW) {
+  if (x.dim() < 2 || outH < 1 || outW < 1)
+    fail("resizeNearest: input ", x.describe(), " to ", outH, "x", outW);
+  const int64_t H = x.size(-2), W = x.size(-1);
+  std::vector<int64_t> rows(static_cast<size_t>(outH)), cols(static_cast<size_t>(outW));
+  // PyTorch's legacy 'nearest': src = floor(dst * (in / out)), clamped (computed in integers).
+  for (int64_t i = 0; i < outH; ++i)
+    rows[size_t(i)] = std::min(i * H / outH, H - 1);
+  for (int64_t j = 0; j < outW; ++j)
+    cols[size_t(j)] = std::min(j * W / outW, W - 1);
+  return ocl::indexSelect(ocl::indexSelect(x, x.dim() - 2, rows), x.dim() - 1, cols);
+}
+
+LossTerms computeLosses(const TrainingConfig& config, const generator::GeneratorOutput& output,
+                        const ocl::Tensor& novelColour, const ocl::Tensor& novelOpacity,
+                        const ocl::Tensor& novelTargets, const ocl::Tensor& cleanSources,
+                        const Vgg19Features* vgg) {
+  LossTerms out;
+  auto addTerm = [&](const std::string& name, const ocl::Tensor& t) {
+    out.terms.emplace_back(name, t);
+    const double w = config.weight(name);
+    if (w > 0) {
+      const ocl::Tensor weighted = ocl::mulScalar(t, w);
+      out.total = out.total.defined() ? ocl::add(out.total, weighted) : weighted;
+    }
+  };
+  addTerm("l1", ocl::maskedL1(novelColour, novelTargets, novelOpacity));
+  if (vgg && vgg->loaded() && config.weight("perceptual") > 0)
+    addTerm("perceptual", perceptualLoss(*vgg, novelColour, novelTargets, novelOpacity));
+  const std::vector<ocl::Tensor>& renders = output.intermediateSourceRenders;
+  for (size_t k = 0; k < renders.size() && k < 4; ++k) {
+    const ocl::Tensor& r = renders[k];
+    if (r.dim() != 4 || r.size(0) != cleanSources.size(0) || r.size(1) != 3)
+      fail("computeLosses: intermediate render ", k, " ", r.describe(),
+           " does not fit the sources ", cleanSources.describe());
+    const ocl::Tensor target =
+        r.size(2) == cleanSources.size(2) && r.size(3) == cleanSources.size(3)
+            ? cleanSources
+            : resizeNearest(cleanSources, r.size(2), r.size(3));
+    addTerm("intermediate_loss_" + std::to_string(k) + "_l1", ocl::l1Loss(r, target));
+  }
+  const ocl::Tensor& D = output.depth;
+  addTerm("smooth_layers", ocl::smoothLayersLoss(ocl::unsqueeze(D, 0)));
+  // Keep lossTermNames() order in the list (perceptual may be missing; order is preserved).
+  if (!out.total.defined())
+    out.total = ocl::Tensor::zeros({1}, novelColour.dtype());
+  return out;
+}
+
+} // namespace simpli::training

@@ -1,0 +1,169 @@
+// Training-view sampling (training/sampler.h).
+#include "simpli/model/training/sampler.h"
+
+#include "simpli/error.h"
+#include "simpli/model/scene/reference_camera.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace simpli::training {
+
+FrameDraw drawFrames(int frames, const SamplingConfig& c, TrainRandom& random) {
+  if (frames < 2)
+    fail("sampler: a scene needs at least 2 frames (a source and a target), got ", frames);
+  FrameDraw d;
+  const int maxV = std::min(c.maxViews, frames - 1);
+  const int minV = std::min(c.minViews, maxV);
+  const int V = int(random.uniformInt(minV, maxV));
+  const int N = std::min(c.novelViews, frames - V);
+  int window = c.window > 0 ? std::max(c.window, V + N) : frames;
+  window = std::min(window, frames);
+  d.windowLength = window;
+  d.windowStart = int(random.uniformInt(0, frames - window));
+  // Partial Fisher-Yates over the window: V + N distinct frames in random order.
+  std::vector<int> pool(window);
+  std::iota(pool.begin(), pool.end(), d.windowStart);
+  for (int i = 0; i < V + N; ++i) {
+    const int j = int(random.uniformInt(i, window - 1));
+    std::swap(pool[i], pool[j]);
+  }
+  d.sources.assign(pool.begin(), pool.begin() + V);
+  d.targets.assign(pool.begin() + V, pool.begin() + V + N);
+  return d;
+}
+
+scene::Camera cropCamera(const scene::Camera& camera, int x, int y, int width, int height) {
+  if (width <= 0 || height <= 0 || camera.width <= 0 || camera.height <= 0)
+    fail("cropCamera: window ", width, "x", height, " of a ", camera.width, "x", camera.height,
+         " camera");
+  scene::Camera c = camera;
+  // Pixel intrinsics: fx_px = fx W is unchanged, cx_px = cx W - x; then relative to the crop.
+  c.fx = camera.fx * camera.width / width;
+  c.fy = camera.fy * camera.height / height;
+  c.cx = (camera.cx * camera.width - x) / width;
+  c.cy = (camera.cy * camera.height - y) / height;
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
+io::Image cropImage(const io::Image& image, int x, int y, int width, int height) {
+  if (x < 0 || y < 0 || width <= 0 || height <= 0 || x + width > image.width ||
+      y + height > image.height)
+    fail("cropImage: window x ", x, " y ", y, " ", width, "x", height, " is not inside the ",
+         image.width, "x", image.height, " image");
+  io::Image out(width, height);
+  for (int c = 0; c < io::Image::channels; ++c)
+    for (int r = 0; r < height; ++r)
+      std::copy_n(image.plane(c) + size_t(y + r) * image.width + x, width, &out.at(c, r, 0));
+  return out;
+}
+
+namespace {
+
+// The resized size and the centre crop's origin of a zoom by `factor`.
+struct ZoomWindow {
+  int width, height, x, y;
+};
+
+ZoomWindow zoomWindow(int width, int height, double factor) {
+  if (!(factor >= 1))
+    fail("zoom: factor ", factor, " must be >= 1");
+  ZoomWindow z;
+  z.width = std::max(width, int(std::lround(width * factor)));
+  z.height = std::max(height, int(std::lround(height * factor)));
+  z.x = (z.width - width) / 2;
+  z.y = (z.height - height) / 2;
+  return z;
+}
+
+} // namespace
+
+scene::Camera zoomCamera(const scene::Camera& camera, double factor) {
+  const ZoomWindow z = zoomWindow(camera.width, camera.height, factor);
+  scene::Camera resized = camera; // relative intrinsics are unchanged by a resize
+  resized.width = z.width;
+  resized.height = z.height;
+  return cropCamera(resized, z.x, z.y, camera.width, camera.height);
+}
+
+io::Image zoomImage(const io::Image& image, double factor) {
+  const ZoomWindow z = zoomWindow(image.width, image.height, factor);
+  return cropImage(io::resizeImage(image, z.width, z.height), z.x, z.y, image.width, image.height);
+}
+
+Sampler::Sampler(const SamplingConfig& config, uint64_t seed) : config_(config), random_(seed) {}
+
+TrainingSample Sampler::draw(TrainingData& data) {
+  const uint64_t count = data.sceneCount();
+  const uint64_t index = count == 0 ? uint64_t(random_.uniformInt(0, (int64_t(1) << 31) - 1))
+                                    : uint64_t(random_.uniformInt(0, int64_t(count) - 1));
+  return drawFromScene(data.scene(index), index);
+}
+
+TrainingSample Sampler::drawFromScene(const scene::Scene& scene, uint64_t sceneIndex) {
+  TrainingSample s;
+  s.sceneIndex = sceneIndex;
+  s.sceneRoot = scene.root;
+  const FrameDraw d = drawFrames(int(scene.size()), config_, random_);
+  s.sourceFrames = d.sources;
+  s.targetFrames = d.targets;
+  const int W = scene.width(), H = scene.height();
+  const std::vector<double>& zooms = config_.zoomScales;
+  if (zooms.size() > 1) // a single factor draws nothing (keeps older runs' random stream)
+    s.zoom = zooms[size_t(random_.uniformInt(0, int64_t(zooms.size()) - 1))];
+  else if (!zooms.empty())
+    s.zoom = zooms[0];
+  int cw = W, ch = H;
+  if (config_.cropHeight > 0) {
+    if (config_.cropHeight > H || config_.cropWidth > W)
+      fail("sampler: crop ", config_.cropHeight, "x", config_.cropWidth, " (HxW) is larger than ",
+           "scene ", scene.root, "'s images (", H, "x", W, ")");
+    ch = config_.cropHeight;
+    cw = config_.cropWidth;
+    s.cropX = int(random_.uniformInt(0, W - cw));
+    s.cropY = int(random_.uniformInt(0, H - ch));
+  }
+  auto take = [&](int frame, std::vector<io::Image>& images, std::vector<scene::Camera>& cameras) {
+    const scene::SceneView& v = scene.views.at(size_t(frame));
+    if (v.image.empty())
+      fail("sampler: scene ", scene.root, " view ", v.name, " has no image loaded");
+    const bool zoom = s.zoom != 1.0, crop = cw != W || ch != H;
+    io::Image image = zoom ? zoomImage(v.image, s.zoom) : v.image;
+    scene::Camera camera = zoom ? zoomCamera(v.camera, s.zoom) : v.camera;
+    images.push_back(crop ? cropImage(image, s.cropX, s.cropY, cw, ch) : std::move(image));
+    cameras.push_back(crop ? cropCamera(camera, s.cropX, s.cropY, cw, ch) : camera);
+  };
+  for (int f : s.sourceFrames)
+    take(f, s.cleanSources, s.sourceCameras);
+  for (int f : s.targetFrames)
+    take(f, s.targets, s.targetCameras);
+  s.reference = scene::referenceCamera(s.sourceCameras);
+  // MixUp on the sources only (kornia RandomMixUp: blend with another image of the batch).
+  const int V = int(s.cleanSources.size());
+  s.sources = s.cleanSources;
+  s.mixupPartner.assign(size_t(V), -1);
+  s.mixupLambda.assign(size_t(V), 0.0);
+  if (V > 1 && config_.mixupProbability > 0) {
+    for (int v = 0; v < V; ++v) {
+      if (!random_.chance(config_.mixupProbability))
+        continue;
+      int other = int(random_.uniformInt(0, V - 2));
+      if (other >= v)
+        ++other;
+      const double lambda = random_.uniform(config_.mixupLambdaMin, config_.mixupLambdaMax);
+      const io::Image& a = s.cleanSources[size_t(v)];
+      const io::Image& b = s.cleanSources[size_t(other)];
+      io::Image& out = s.sources[size_t(v)];
+      for (size_t i = 0; i < out.data.size(); ++i)
+        out.data[i] = float((1.0 - lambda) * a.data[i] + lambda * b.data[i]);
+      s.mixupPartner[size_t(v)] = other;
+      s.mixupLambda[size_t(v)] = lambda;
+    }
+  }
+  return s;
+}
+
+} // namespace simpli::training

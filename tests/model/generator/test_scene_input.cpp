@@ -1,0 +1,71 @@
+// Scene -> generator input: image layout, cameras, reference camera, view selection, depth
+// range, and the errors for bad view lists. Uses the bundled synthetic scene.
+#include "test_helpers.h"
+
+#include <simpli/error.h>
+#include <simpli/model/generator/scene_input.h>
+#include <simpli/model/scene/readers.h>
+#include <simpli/model/scene/reference_camera.h>
+
+#include <gtest/gtest.h>
+
+using namespace simpli;
+
+namespace {
+
+const scene::Scene& bundled() {
+  static const scene::Scene scene =
+      scene::readScene(std::string(SIMPLI_DATA_DIR) + "/synthetic/scene_00");
+  return scene;
+}
+
+} // namespace
+
+TEST(SceneInput, ChosenViewsInOrderWithTheirReferenceCamera) {
+  const scene::Scene& scene = bundled();
+  ASSERT_GE(scene.size(), 5u);
+  generator::SceneInputOptions options;
+  options.views = {4, 0, 2};
+  const generator::GeneratorInput in = generator::sceneInput(scene, options);
+  const int H = scene.height(), W = scene.width();
+  ASSERT_EQ(in.images.shape(), (ocl::Shape{3, 3, H, W}));
+  const std::vector<float> pixels = in.images.toVectorF32();
+  const std::size_t plane = 3 * static_cast<std::size_t>(H) * W;
+  for (std::size_t k = 0; k < options.views.size(); ++k) {
+    const scene::SceneView& view = scene.views[static_cast<std::size_t>(options.views[k])];
+    EXPECT_TRUE(std::equal(view.image.data.begin(), view.image.data.end(),
+                           pixels.begin() + static_cast<std::ptrdiff_t>(k * plane)))
+        << "view " << options.views[k];
+    EXPECT_TRUE(in.sources[k].R.isApprox(view.camera.R));
+    EXPECT_TRUE(in.sources[k].t.isApprox(view.camera.t));
+  }
+  const scene::Camera ref = scene::referenceCamera(in.sources);
+  EXPECT_TRUE(in.reference.R.isApprox(ref.R));
+  EXPECT_TRUE(in.reference.t.isApprox(ref.t));
+  EXPECT_EQ(in.reference.width, W);
+  EXPECT_EQ(in.reference.height, H);
+  // Config range by default (both 0), the scene's on request.
+  EXPECT_EQ(in.minDepth, 0.0);
+  EXPECT_EQ(in.maxDepth, 0.0);
+  options.depthRange = generator::DepthRangeSource::Scene;
+  const generator::GeneratorInput ranged = generator::sceneInput(scene, options);
+  EXPECT_DOUBLE_EQ(ranged.minDepth, scene.near);
+  EXPECT_DOUBLE_EQ(ranged.maxDepth, scene.far);
+  EXPECT_EQ(generator::sceneInput(scene).images.size(0), static_cast<int64_t>(scene.size()));
+}
+
+TEST(SceneInput, BadViewListsNameTheSceneAndTheView) {
+  const scene::Scene& scene = bundled();
+  generator::SceneInputOptions options;
+  options.views = {0, static_cast<int>(scene.size())};
+  test::expectError([&] { generator::sceneInput(scene, options); },
+                    {"scene_00", "source view " + std::to_string(scene.size()), "out of range"});
+  options.views = {1, 1};
+  test::expectError([&] { generator::sceneInput(scene, options); },
+                    {"scene_00", "view 1", "twice"});
+  options.views = {-1};
+  test::expectError([&] { generator::sceneInput(scene, options); }, {"view -1"});
+  scene::Scene empty;
+  empty.root = "/nowhere/empty";
+  test::expectError([&] { generator::sceneInput(empty); }, {"/nowhere/empty", "no views"});
+}

@@ -1,0 +1,167 @@
+// Training config (defaults, strictness, round trip) and the CSV log (append, resume cut).
+#include "test_helpers.h"
+
+#include <simpli/model/network/loader.h>
+#include <simpli/model/training/config.h>
+#include <simpli/model/training/log.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace simpli::training {
+namespace {
+namespace fs = std::filesystem;
+
+fs::path tempDir(const std::string& name) {
+  const fs::path p =
+      fs::temp_directory_path() / ("simpli_training_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+TEST(TrainConfig, DefaultsAreTheReferenceTblock4Train) {
+  const TrainingConfig c = parseTrainingConfig(R"({"network": "official-4l"})", "t.json", "");
+  EXPECT_EQ(c.network.numPlanes, 41);
+  EXPECT_DOUBLE_EQ(c.optimizer.lr, 3e-4);
+  EXPECT_DOUBLE_EQ(c.optimizer.beta1, 0.9);
+  EXPECT_DOUBLE_EQ(c.optimizer.beta2, 0.999);
+  EXPECT_DOUBLE_EQ(c.optimizer.gamma, 0.999994);
+  EXPECT_DOUBLE_EQ(c.optimizer.clipGradNorm, 20);
+  EXPECT_DOUBLE_EQ(c.weight("l1"), 1);
+  EXPECT_DOUBLE_EQ(c.weight("perceptual"), 0);
+  for (int k = 0; k < 4; ++k)
+    EXPECT_DOUBLE_EQ(c.weight("intermediate_loss_" + std::to_string(k) + "_l1"), 1);
+  EXPECT_DOUBLE_EQ(c.weight("smooth_layers"), 0.01);
+  EXPECT_EQ(c.sampling.minViews, 2);
+  EXPECT_EQ(c.sampling.maxViews, 8);
+  EXPECT_EQ(c.sampling.novelViews, 4);
+  EXPECT_DOUBLE_EQ(c.sampling.mixupProbability, 0.9);
+  EXPECT_DOUBLE_EQ(c.sampling.mixupLambdaMax, 0.4);
+}
+
+TEST(TrainConfig, RoundTripAndNetworkFile) {
+  const TrainingConfig c = parseTrainingConfig(
+      R"({"network": "tiny.json", "dtype": "f64", "seed": 5, "steps": 7,
+          "optimizer": {"lr": 1e-3}, "loss_weights": {"perceptual": 10},
+          "sampling": {"crop": [32, 48], "mixup_lambda": [0.1, 0.2], "window": 6,
+                       "zoom": [1.0, 1.3]}})",
+      "t.json", SIMPLI_NETWORK_CONFIG_DIR);
+  EXPECT_EQ(c.network.name, "tiny");
+  EXPECT_EQ(c.dtype, ocl::Dtype::F64);
+  EXPECT_EQ(c.sampling.cropWidth, 48);
+  EXPECT_EQ(c.sampling.zoomScales, (std::vector<double>{1.0, 1.3}));
+  const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
+  EXPECT_EQ(toJson(back), toJson(c));
+  EXPECT_EQ(firstIncompatibleField(c, back), "");
+  TrainingConfig d = c;
+  d.steps = 100;
+  EXPECT_EQ(firstIncompatibleField(c, d), "");
+  d.optimizer.lr = 2e-3;
+  EXPECT_EQ(firstIncompatibleField(c, d), "optimizer");
+}
+
+TEST(TrainConfig, BadInputNamesFieldAndValue) {
+  using test::expectError;
+  expectError([] { parseTrainingConfig("{", "bad.json", ""); }, {"bad.json", "not valid JSON"});
+  expectError([] { parseTrainingConfig("{}", "a.json", ""); }, {"a.json", "missing", "network"});
+  expectError(
+      [] { parseTrainingConfig(R"({"network": "official-4l", "stepz": 3})", "a.json", ""); },
+      {"a.json", "unknown", "stepz"});
+  expectError(
+      [] {
+        parseTrainingConfig(R"({"network": "official-4l", "loss_weights": {"l2": 1}})", "a.json",
+                            "");
+      },
+      {"unknown", "loss_weights.l2"});
+  expectError(
+      [] {
+        parseTrainingConfig(R"({"network": "official-4l", "optimizer": {"lr": -1}})", "a.json", "");
+      },
+      {"optimizer.lr", "-1", "> 0"});
+  expectError(
+      [] {
+        parseTrainingConfig(R"({"network": "official-4l", "sampling": {"crop": [30, 32]}})",
+                            "a.json", "");
+      },
+      {"sampling.crop", "multiples of 16"});
+  expectError(
+      [] {
+        parseTrainingConfig(R"({"network": "official-4l", "sampling": {"zoom": [1.2, 0.8]}})",
+                            "a.json", "");
+      },
+      {"a.json", "sampling.zoom", "0.8", "[1, 4]"});
+  expectError(
+      [] {
+        parseTrainingConfig(R"({"network": "official-4l", "sampling": {"zoom": []}})", "a.json",
+                            "");
+      },
+      {"sampling.zoom", "non-empty list"});
+  expectError(
+      [] { parseTrainingConfig(R"({"network": "official-4l", "ema_decay": 1})", "a.json", ""); },
+      {"a.json", "ema_decay", "[0, 1)"});
+  expectError([] { parseTrainingConfig(R"({"network": "nope.json"})", "a.json", "/tmp"); },
+              {"a.json", "nope.json", "does not exist"});
+  expectError(
+      [] { parseTrainingConfig(R"({"network": "official-4l", "dtype": "f16"})", "a.json", ""); },
+      {"dtype", "f16"});
+}
+
+TEST(TrainConfig, ResolvesNamesAndFilesAsTheCliAndTheFilterDo) {
+  // A shipped training config by name, a network config by name with default settings, a
+  // network-config file, and an unknown name.
+  const TrainingConfig tiny = resolveTrainingConfig("tiny");
+  EXPECT_EQ(tiny.network, network::resolveNetworkConfig("tiny"));
+  EXPECT_EQ(tiny.steps,
+            loadTrainingConfig(network::networkConfigDir() + "/training/tiny.json").steps);
+  const TrainingConfig eight = resolveTrainingConfig("official-8l");
+  EXPECT_EQ(eight.network, network::officialConfig(8));
+  EXPECT_EQ(eight.steps, TrainingConfig{}.steps);
+  const TrainingConfig fromFile =
+      resolveTrainingConfig(network::networkConfigDir() + "/tiny-mpi.json");
+  EXPECT_TRUE(fromFile.network.mpiOnly);
+  test::expectError([] { resolveTrainingConfig("no-such-config"); }, {"no-such-config"});
+  test::expectError([] { resolveTrainingConfig("/nowhere/c.json"); }, {"/nowhere/c.json"});
+}
+
+TEST(TrainLog, AppendsAndCutsBackOnResume) {
+  const fs::path dir = tempDir("log");
+  const std::string path = (dir / "log.csv").string();
+  const std::vector<std::string> cols{"step", "l1", "total"};
+  {
+    TrainLog log(path, cols, -1);
+    for (int s = 1; s <= 5; ++s)
+      log.append({double(s), 0.1 * s, std::nan("")});
+  }
+  std::vector<std::string> header;
+  auto rows = TrainLog::read(path, &header);
+  EXPECT_EQ(header, cols);
+  ASSERT_EQ(rows.size(), 5u);
+  EXPECT_EQ(rows[2][1], 0.1 * 3); // 17 digits read back exactly
+  EXPECT_TRUE(std::isnan(rows[2][2]));
+  // A torn last line (crash mid-write) and a resume at step 3.
+  {
+    std::ofstream f(path, std::ios::app);
+    f << "6,0.6";
+  }
+  {
+    TrainLog log(path, cols, 3);
+    log.append({4, 0.44, 1});
+  }
+  rows = TrainLog::read(path);
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[3][0], 4);
+  EXPECT_EQ(rows[3][1], 0.44);
+  test::expectError(
+      [&] {
+        TrainLog(path, {"step", "other"}, 2);
+      },
+      {path, "header", "cannot resume"});
+  fs::remove_all(dir);
+}
+
+} // namespace
+} // namespace simpli::training
