@@ -1,23 +1,23 @@
 // simpli::MLI <-> vtkPartitionedDataSetCollection (see SIMPLIMLIToVTK.h for the layout).
 #include "SIMPLIMLIToVTK.h"
 
-#include "vtkCellArray.h"
-#include "vtkCompositeDataSet.h"
-#include "vtkDataArray.h"
-#include "vtkDataAssembly.h"
-#include "vtkDataSet.h"
-#include "vtkDoubleArray.h"
-#include "vtkFieldData.h"
-#include "vtkFloatArray.h"
-#include "vtkIdTypeArray.h"
-#include "vtkInformation.h"
-#include "vtkIntArray.h"
-#include "vtkPartitionedDataSet.h"
-#include "vtkPartitionedDataSetCollection.h"
-#include "vtkPointData.h"
-#include "vtkPoints.h"
-#include "vtkPolyData.h"
-#include "vtkUnsignedCharArray.h"
+#include <vtkCellArray.h>
+#include <vtkCompositeDataSet.h>
+#include <vtkDataArray.h>
+#include <vtkDataAssembly.h>
+#include <vtkDataSet.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkFloatArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkInformation.h>
+#include <vtkIntArray.h>
+#include <vtkPartitionedDataSet.h>
+#include <vtkPartitionedDataSetCollection.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
 
 #include "simpli/error.h"
 #include "simpli/model/mli/mesh.h"

@@ -38,7 +38,7 @@
 #include <functional>
 #include <string>
 
-#include "vtkSmartPointer.h"
+#include <vtkSmartPointer.h>
 
 #include "simpli/model/mli/mli.h"
 

@@ -3,16 +3,16 @@
 
 #include "SIMPLIMLIToVTK.h"
 
-#include "vtkDataArray.h"
-#include "vtkDoubleArray.h"
-#include "vtkFieldData.h"
-#include "vtkImageData.h"
-#include "vtkPartitionedDataSet.h"
-#include "vtkPartitionedDataSetCollection.h"
-#include "vtkPointData.h"
-#include "vtkSmartPointer.h"
-#include "vtkStringArray.h"
-#include "vtkUnsignedCharArray.h"
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkImageData.h>
+#include <vtkPartitionedDataSet.h>
+#include <vtkPartitionedDataSetCollection.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
+#include <vtkUnsignedCharArray.h>
 
 #include "simpli/error.h"
 

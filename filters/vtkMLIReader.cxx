@@ -1,11 +1,12 @@
 #include "vtkMLIReader.h"
 
+#include "SIMPLIFilter.h"
 #include "SIMPLIMLIToVTK.h"
 
-#include "vtkInformation.h"
-#include "vtkInformationVector.h"
-#include "vtkObjectFactory.h"
-#include "vtkPartitionedDataSetCollection.h"
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkPartitionedDataSetCollection.h>
 
 #include "simpli/error.h"
 #include "simpli/model/mli/files.h"
@@ -58,38 +59,27 @@ int vtkMLIReader::RequestData(vtkInformation* vtkNotUsed(request),
     return 0;
   }
 
-  try {
-    simpli::mli::MLIReadOptions readOptions;
-    readOptions.depthDecoding = this->DepthDecoding == DEPTH_BIN_CENTRE
-                                    ? simpli::mli::MLIDepthDecoding::BinCentre
-                                    : simpli::mli::MLIDepthDecoding::Viewer;
-    this->UpdateProgress(0.0);
-    const simpli::mli::MLI mli = simpli::mli::readMLI(FolderOf(this->FileName), readOptions);
-    if (this->GetAbortExecute()) {
-      return 1; // aborted: empty output, no error
-    }
-
-    simpli::vtkmli::LayerOptions options;
-    options.dropTransparentTriangles = this->DropTransparentTriangles;
-    options.skipEmptyLayers = this->SkipEmptyLayers;
-    options.alphaThreshold = this->AlphaThreshold;
-    // Decoding the images dominates; call it half of the work, the meshes the other half.
-    const bool complete = simpli::vtkmli::mliToCollection(mli, options, output, [this](double f) {
-      this->UpdateProgress(0.5 + 0.5 * f);
-      return !this->GetAbortExecute();
-    });
-    if (!complete) {
-      vtkDebugMacro(<< "Aborted while building the layer meshes of " << this->FileName);
-    }
-    return 1;
-  } catch (const simpli::Error& e) {
-    vtkErrorMacro(<< "Cannot read MLI '" << this->FileName << "': " << e.what());
-  } catch (const std::exception& e) {
-    vtkErrorMacro(<< "Cannot read MLI '" << this->FileName
-                  << "': unexpected failure: " << e.what());
-  }
-  output->Initialize();
-  return 0;
+  const std::string what = std::string("Cannot read MLI '") + this->FileName + "'";
+  return simpli::vtkfilter::runRequest(
+      this, what,
+      [&](const simpli::vtkfilter::Progress& progress) {
+        simpli::mli::MLIReadOptions readOptions;
+        readOptions.depthDecoding = this->DepthDecoding == DEPTH_BIN_CENTRE
+                                        ? simpli::mli::MLIDepthDecoding::BinCentre
+                                        : simpli::mli::MLIDepthDecoding::Viewer;
+        progress(0.0);
+        const simpli::mli::MLI mli = simpli::mli::readMLI(FolderOf(this->FileName), readOptions);
+        if (progress.aborted())
+          return; // aborted: empty output, no error
+        simpli::vtkmli::LayerOptions options;
+        options.dropTransparentTriangles = this->DropTransparentTriangles;
+        options.skipEmptyLayers = this->SkipEmptyLayers;
+        options.alphaThreshold = this->AlphaThreshold;
+        // Decoding the images dominates; call it half of the work, the meshes the other half.
+        if (!simpli::vtkmli::mliToCollection(mli, options, output, progress.range(0.5, 1.0)))
+          vtkDebugMacro(<< "Aborted while building the layer meshes of " << this->FileName);
+      },
+      [output] { output->Initialize(); });
 }
 
 void vtkMLIReader::PrintSelf(ostream& os, vtkIndent indent) {

@@ -35,8 +35,8 @@
 #ifndef vtkMLIReader_h
 #define vtkMLIReader_h
 
-#include "vtkPartitionedDataSetCollectionAlgorithm.h"
 #include "vtkSimpliFiltersModule.h" // for export macro
+#include <vtkPartitionedDataSetCollectionAlgorithm.h>
 
 #include <string> // for std::string
 

@@ -1,13 +1,14 @@
 #include "vtkMLIWriter.h"
 
+#include "SIMPLIFilter.h"
 #include "SIMPLIMLIToVTK.h"
 
-#include "vtkCommand.h"
-#include "vtkErrorCode.h"
-#include "vtkInformation.h"
-#include "vtkInformationVector.h"
-#include "vtkObjectFactory.h"
-#include "vtkPartitionedDataSetCollection.h"
+#include <vtkCommand.h>
+#include <vtkErrorCode.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkPartitionedDataSetCollection.h>
 
 #include "simpli/error.h"
 #include "simpli/model/mli/files.h"
@@ -52,22 +53,18 @@ bool vtkMLIWriter::WriteCollection(vtkPartitionedDataSetCollection* input) {
   const simpli::mli::MLIFormat format = this->Format == FORMAT_LOSSLESS
                                             ? simpli::mli::MLIFormat::Lossless
                                             : simpli::mli::MLIFormat::Jpeg;
-  try {
-    this->UpdateProgress(0.0);
-    const simpli::mli::MLI mli =
-        simpli::vtkmli::collectionToMLI(input, std::string("MLI '") + this->FileName + "'");
-    this->UpdateProgress(0.2);
-    // One call, atomic: it either produces the complete folder or leaves none behind.
-    simpli::mli::writeMLI(this->FileName, mli, format);
-    return true;
-  } catch (const simpli::Error& e) {
-    vtkErrorMacro(<< "Cannot write " << e.what());
-  } catch (const std::exception& e) {
-    vtkErrorMacro(<< "Cannot write MLI '" << this->FileName
-                  << "': unexpected failure: " << e.what());
-  }
-  this->SetErrorCode(vtkErrorCode::UnknownError);
-  return false;
+  // The collection's own errors name the MLI ("MLI '<FileName>': ...").
+  return simpli::vtkfilter::runRequest(
+             this, "Cannot write",
+             [&](const simpli::vtkfilter::Progress& progress) {
+               progress(0.0);
+               const simpli::mli::MLI mli = simpli::vtkmli::collectionToMLI(
+                   input, std::string("MLI '") + this->FileName + "'");
+               progress(0.2);
+               // One call, atomic: it either produces the complete folder or leaves none behind.
+               simpli::mli::writeMLI(this->FileName, mli, format);
+             },
+             [this] { this->SetErrorCode(vtkErrorCode::UnknownError); }) != 0;
 }
 
 int vtkMLIWriter::RequestData(vtkInformation* vtkNotUsed(request),

@@ -26,7 +26,7 @@
 #define vtkMLIWriter_h
 
 #include "vtkSimpliFiltersModule.h" // for export macro
-#include "vtkWriter.h"
+#include <vtkWriter.h>
 
 class vtkPartitionedDataSetCollection;
 

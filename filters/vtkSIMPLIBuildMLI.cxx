@@ -1,69 +1,59 @@
 #include "vtkSIMPLIBuildMLI.h"
 
-#include "SIMPLIDevice.h"
+#include "SIMPLIFilter.h"
 #include "SIMPLIMLIToVTK.h"
 #include "SIMPLISceneToVTK.h"
 
-#include "vtkDoubleArray.h"
-#include "vtkFieldData.h"
-#include "vtkInformation.h"
-#include "vtkInformationVector.h"
-#include "vtkIntArray.h"
-#include "vtkObjectFactory.h"
-#include "vtkPartitionedDataSetCollection.h"
-#include "vtkSmartPointer.h"
-#include "vtkStringArray.h"
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkObjectFactory.h>
+#include <vtkPartitionedDataSetCollection.h>
+#include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
 
 #include "simpli/error.h"
-#include "simpli/model/generator/generator.h"
-#include "simpli/model/generator/scene_input.h"
+#include "simpli/model/generator/mli_builder.h"
 #include "simpli/model/mli/mli.h"
 #include "simpli/model/network/loader.h"
 #include "simpli/model/scene/scene.h"
-#include "simpli/ocl/autograd.h"
 
 #include <chrono>
 #include <exception>
-#include <filesystem>
-#include <iomanip>
-#include <memory>
-#include <optional>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkSIMPLIBuildMLI);
 
-// The cached network and what it was loaded from; the last forward pass's MLI and what it was
-// computed from (so that changing only how the layers become meshes does not rerun it).
+// The model side, generator::MLIBuilder (the cached network and the last forward pass), and the
+// steps of RequestData that read the filter's properties (a nested class sees them).
 class vtkSIMPLIBuildMLI::vtkInternals {
 public:
-  std::unique_ptr<simpli::network::SimpliNetwork> Network;
-  std::string Key; ///< weights, their modification time, config, seed and device
-  std::string WeightsDescription;
+  simpli::generator::MLIBuilder Builder;
   int DeviceUser = 0;
 
-  std::optional<simpli::mli::MLI> LastMLI;
-  std::string LastForwardKey;    ///< Key, corrections, depth range, cameras
-  std::vector<float> LastPixels; ///< the source images
-  void ForgetForward() {
-    this->LastMLI.reset();
-    this->LastForwardKey.clear();
-    this->LastPixels.clear();
-  }
+  /// The input scene, or the one in SceneFileName when nothing is connected.
+  static simpli::scene::Scene ReadScene(vtkSIMPLIBuildMLI* self, vtkInformationVector* input);
+  /// The network of WeightsFile / Config / RandomSeed on Device (cached), checked against
+  /// NumberOfPlanes and CorrectionSteps.
+  const simpli::network::LoadedNetwork& LoadNetwork(vtkSIMPLIBuildMLI* self);
+  /// The MLI as layer meshes per DropEmptyLayers, EmptyLayerThreshold, DropTransparentTriangles;
+  /// false when aborted.
+  static bool FillLayers(vtkSIMPLIBuildMLI* self, const simpli::mli::MLI& mli,
+                         vtkPartitionedDataSetCollection* output,
+                         const simpli::vtkfilter::Progress& progress);
 };
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using simpli::vtkfilter::str;
 
 double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-std::string str(const char* s) {
-  return s ? std::string(s) : std::string();
 }
 
 // "0,2,5" (commas and/or spaces) -> {0, 2, 5}; range checks happen against the scene.
@@ -92,44 +82,6 @@ std::vector<int> parseViewList(const std::string& text) {
   return views;
 }
 
-// Modification time of `path` as text ("" when it cannot be read), so that a weights file
-// rewritten by a training run is loaded again.
-std::string modificationTime(const std::string& path) {
-  std::error_code ec;
-  const auto t = std::filesystem::last_write_time(path, ec);
-  return ec ? std::string() : std::to_string(t.time_since_epoch().count());
-}
-
-// Everything besides the pixels that the forward pass depends on, exactly (17 digits).
-std::string forwardKey(const std::string& networkKey, int corrections,
-                       const simpli::generator::GeneratorInput& input) {
-  std::ostringstream os;
-  os << std::setprecision(17) << networkKey << "\n"
-     << corrections << " " << input.minDepth << " " << input.maxDepth;
-  std::vector<simpli::scene::Camera> cameras = input.sources;
-  cameras.push_back(input.reference);
-  for (const simpli::scene::Camera& c : cameras) {
-    os << "\n"
-       << c.width << " " << c.height << " " << c.fx << " " << c.fy << " " << c.cx << " " << c.cy;
-    for (int r = 0; r < 3; ++r) {
-      for (int k = 0; k < 3; ++k)
-        os << " " << c.R(r, k);
-      os << " " << c.t(r);
-    }
-  }
-  return os.str();
-}
-
-// The source views' pixels, in input order.
-std::vector<float> sourcePixels(const simpli::scene::Scene& scene, const std::vector<int>& views) {
-  std::vector<float> pixels;
-  for (int v : views) {
-    const std::vector<float>& data = scene.views[static_cast<std::size_t>(v)].image.data;
-    pixels.insert(pixels.end(), data.begin(), data.end());
-  }
-  return pixels;
-}
-
 vtkSmartPointer<vtkStringArray> stringValue(const char* name, const std::string& value) {
   auto a = vtkSmartPointer<vtkStringArray>::New();
   a->SetName(name);
@@ -144,20 +96,42 @@ vtkSmartPointer<vtkIntArray> intValue(const char* name, int value) {
   return a;
 }
 
+// Stage names and times, the source views and the network as field data of `out`.
+void addBuildFieldData(vtkFieldData* fd, const std::vector<std::pair<std::string, double>>& stages,
+                       const std::vector<int>& views, const simpli::network::NetworkConfig& config,
+                       const std::string& weights) {
+  auto names = vtkSmartPointer<vtkStringArray>::New();
+  names->SetName("StageNames");
+  auto times = vtkSmartPointer<vtkDoubleArray>::New();
+  times->SetName("StageTimes");
+  for (const auto& [name, ms] : stages) {
+    names->InsertNextValue(name);
+    times->InsertNextValue(ms);
+  }
+  fd->AddArray(names);
+  fd->AddArray(times);
+  auto viewArray = vtkSmartPointer<vtkIntArray>::New();
+  viewArray->SetName("SourceViews");
+  for (int v : views)
+    viewArray->InsertNextValue(v);
+  fd->AddArray(viewArray);
+  fd->AddArray(intValue("NumberOfPlanes", config.numPlanes));
+  fd->AddArray(stringValue("NetworkConfig", config.name));
+  fd->AddArray(stringValue("NetworkWeights", weights));
+}
+
 } // namespace
 
 vtkSIMPLIBuildMLI::vtkSIMPLIBuildMLI() : Internals(new vtkInternals) {
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(1);
   vtkInternals* internals = this->Internals;
-  internals->DeviceUser = simpli::vtkdevice::registerDeviceUser([internals] {
-    internals->Network.reset();
-    internals->Key.clear();
-  });
+  internals->DeviceUser =
+      simpli::vtkfilter::registerDeviceUser([internals] { internals->Builder.release(); });
 }
 
 vtkSIMPLIBuildMLI::~vtkSIMPLIBuildMLI() {
-  simpli::vtkdevice::unregisterDeviceUser(this->Internals->DeviceUser);
+  simpli::vtkfilter::unregisterDeviceUser(this->Internals->DeviceUser);
   delete this->Internals;
   this->SetSceneFileName(nullptr);
   this->SetWeightsFile(nullptr);
@@ -167,9 +141,7 @@ vtkSIMPLIBuildMLI::~vtkSIMPLIBuildMLI() {
 }
 
 void vtkSIMPLIBuildMLI::ReleaseNetwork() {
-  this->Internals->Network.reset();
-  this->Internals->Key.clear();
-  this->Internals->ForgetForward();
+  this->Internals->Builder.release();
 }
 
 int vtkSIMPLIBuildMLI::FillInputPortInformation(int port, vtkInformation* info) {
@@ -178,6 +150,52 @@ int vtkSIMPLIBuildMLI::FillInputPortInformation(int port, vtkInformation* info) 
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPartitionedDataSetCollection");
   info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   return 1;
+}
+
+simpli::scene::Scene vtkSIMPLIBuildMLI::vtkInternals::ReadScene(vtkSIMPLIBuildMLI* self,
+                                                                vtkInformationVector* input) {
+  auto* collection = input->GetNumberOfInformationObjects() > 0
+                         ? vtkPartitionedDataSetCollection::GetData(input, 0)
+                         : nullptr;
+  if (collection)
+    return simpli::vtkscene::vtkToScene(collection, "Build MLI: input scene");
+  if (str(self->SceneFileName).empty())
+    simpli::fail("no scene: connect a scene (SIMPLI Scene Reader) to the input or set "
+                 "SceneFileName to a scene folder");
+  try {
+    return simpli::scene::readScene(self->SceneFileName);
+  } catch (const simpli::Error& e) {
+    simpli::fail("SceneFileName '", self->SceneFileName, "': ", e.what());
+  }
+}
+
+const simpli::network::LoadedNetwork&
+vtkSIMPLIBuildMLI::vtkInternals::LoadNetwork(vtkSIMPLIBuildMLI* self) {
+  simpli::vtkfilter::selectDevice(str(self->Device), "Device");
+  simpli::generator::NetworkSource source;
+  source.config = str(self->Config);
+  source.weights = str(self->WeightsFile);
+  if (self->RandomSeed >= 0)
+    source.randomSeed = static_cast<uint64_t>(self->RandomSeed);
+  try {
+    const simpli::network::LoadedNetwork& loaded = this->Builder.network(source);
+    const simpli::network::NetworkConfig& config = loaded.network->config();
+    if (self->NumberOfPlanes != 0 && self->NumberOfPlanes != config.numPlanes)
+      simpli::fail("NumberOfPlanes ", self->NumberOfPlanes, ": the network (config '", config.name,
+                   "') was built for ", config.numPlanes,
+                   " planes (the plane count is part of the trained network); use 0 or ",
+                   config.numPlanes);
+    if (self->CorrectionSteps > config.mliCorrections())
+      simpli::fail("CorrectionSteps ", self->CorrectionSteps, ": config '", config.name, "' has ",
+                   config.mliCorrections(), " MLI corrections (use -1 for all, or 0..",
+                   config.mliCorrections(), ")");
+    return loaded;
+  } catch (const simpli::Error& e) {
+    if (this->Builder.hasNetwork())
+      throw; // loaded; a property does not fit it
+    simpli::fail("network (WeightsFile '", source.weights, "', Config '", source.config,
+                 "'): ", e.what());
+  }
 }
 
 int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
@@ -189,177 +207,74 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
     return 0;
   }
   output->Initialize();
-  std::vector<std::pair<std::string, double>> stages;
+  using simpli::vtkfilter::Progress;
+  return simpli::vtkfilter::runRequest(
+      this, "SIMPLI Build MLI",
+      [&](const Progress& progress) {
+        const std::vector<int> requestedViews = parseViewList(str(this->SourceViews));
+        std::vector<std::pair<std::string, double>> stages;
+        progress(0.0);
+        auto t0 = Clock::now();
+        const simpli::scene::Scene scene = vtkInternals::ReadScene(this, inputVector[0]);
+        stages.emplace_back("read_scene", msSince(t0));
+        simpli::generator::MLIBuildOptions options;
+        try {
+          options.views = simpli::generator::sceneInputViews(scene, requestedViews);
+        } catch (const simpli::Error& e) {
+          simpli::fail("SourceViews '", str(this->SourceViews), "': ", e.what());
+        }
+        if (!progress(0.1))
+          return; // aborted: empty output, no error
 
-  try {
-    const std::vector<int> requestedViews = parseViewList(str(this->SourceViews));
+        t0 = Clock::now();
+        const simpli::network::LoadedNetwork& loaded = this->Internals->LoadNetwork(this);
+        stages.emplace_back("load_network", msSince(t0));
+        if (!progress(0.2))
+          return;
 
-    // --- the scene ----------------------------------------------------------------------------
-    this->UpdateProgress(0.0);
-    auto t0 = Clock::now();
-    auto* sceneInput = inputVector[0]->GetNumberOfInformationObjects() > 0
-                           ? vtkPartitionedDataSetCollection::GetData(inputVector[0], 0)
-                           : nullptr;
-    simpli::scene::Scene scene;
-    if (sceneInput) {
-      scene = simpli::vtkscene::vtkToScene(sceneInput, "Build MLI: input scene");
-    } else {
-      if (str(this->SceneFileName).empty())
-        simpli::fail("no scene: connect a scene (SIMPLI Scene Reader) to the input or set "
-                     "SceneFileName to a scene folder");
-      try {
-        scene = simpli::scene::readScene(this->SceneFileName);
-      } catch (const simpli::Error& e) {
-        simpli::fail("SceneFileName '", this->SceneFileName, "': ", e.what());
-      }
-    }
-    stages.emplace_back("read_scene", msSince(t0));
-    std::vector<int> views;
-    try {
-      views = simpli::generator::sceneInputViews(scene, requestedViews);
-    } catch (const simpli::Error& e) {
-      simpli::fail("SourceViews '", str(this->SourceViews), "': ", e.what());
-    }
-    this->UpdateProgress(0.1);
-    if (this->GetAbortExecute())
-      return 1; // aborted: empty output, no error
+        options.depthRange = this->DepthRange == DEPTH_RANGE_SCENE
+                                 ? simpli::generator::DepthRangeSource::Scene
+                                 : simpli::generator::DepthRangeSource::Config;
+        options.corrections = this->CorrectionSteps;
+        const Progress pass = progress.range(0.2, 0.85);
+        options.progress = [&pass](const std::string&, int done, int total) {
+          return pass(static_cast<double>(done) / total);
+        };
+        simpli::generator::MLIBuild build;
+        try {
+          build = this->Internals->Builder.build(scene, options);
+        } catch (const simpli::generator::GeneratorCancelled&) {
+          vtkDebugMacro(<< "Aborted during the forward pass");
+          return;
+        }
+        stages.insert(stages.end(), build.stageMs.begin(), build.stageMs.end());
+        if (!progress(0.85))
+          return;
 
-    // --- the network (cached) -------------------------------------------------------------------
-    t0 = Clock::now();
-    simpli::vtkdevice::selectDevice(str(this->Device), "Device");
-    const std::string weights = str(this->WeightsFile);
-    const std::string key =
-        weights + "\n" +
-        modificationTime(weights.empty() ? simpli::network::defaultWeightsPath() : weights) + "\n" +
-        str(this->Config) + "\n" + std::to_string(this->RandomSeed) + "\n" +
-        simpli::vtkdevice::currentDevice();
-    vtkInternals& in = *this->Internals;
-    if (!in.Network || in.Key != key) {
-      in.Network.reset();
-      in.Key.clear();
-      simpli::network::LoadedNetwork loaded;
-      try {
-        loaded = simpli::network::loadNetwork(
-            str(this->Config), weights,
-            this->RandomSeed >= 0 ? std::optional<uint64_t>(this->RandomSeed) : std::nullopt);
-      } catch (const simpli::Error& e) {
-        simpli::fail("network (WeightsFile '", weights, "', Config '", str(this->Config),
-                     "'): ", e.what());
-      }
-      in.Network = std::move(loaded.network);
-      in.WeightsDescription = loaded.weightsDescription;
-      in.Key = key;
-    }
-    stages.emplace_back("load_network", msSince(t0));
-    simpli::network::SimpliNetwork& network = *in.Network;
-    const simpli::network::NetworkConfig& config = network.config();
-    if (this->NumberOfPlanes != 0 && this->NumberOfPlanes != config.numPlanes)
-      simpli::fail("NumberOfPlanes ", this->NumberOfPlanes, ": the network (config '", config.name,
-                   "') was built for ", config.numPlanes,
-                   " planes (the plane count is part of the trained network); use 0 or ",
-                   config.numPlanes);
-    if (this->CorrectionSteps > config.mliCorrections())
-      simpli::fail("CorrectionSteps ", this->CorrectionSteps, ": config '", config.name, "' has ",
-                   config.mliCorrections(), " MLI corrections (use -1 for all, or 0..",
-                   config.mliCorrections(), ")");
-    this->UpdateProgress(0.2);
-    if (this->GetAbortExecute())
-      return 1;
+        t0 = Clock::now();
+        if (!vtkInternals::FillLayers(this, build.mli, output, progress.range(0.9, 1.0)))
+          return;
+        stages.emplace_back("meshes", msSince(t0));
+        addBuildFieldData(output->GetFieldData(), stages, build.views, loaded.network->config(),
+                          loaded.weightsDescription);
+        progress(1.0);
+      },
+      [output] { output->Initialize(); });
+}
 
-    // --- the forward pass ----------------------------------------------------------------------
-    simpli::generator::SceneInputOptions inputOptions;
-    inputOptions.views = views;
-    inputOptions.depthRange = this->DepthRange == DEPTH_RANGE_SCENE
-                                  ? simpli::generator::DepthRangeSource::Scene
-                                  : simpli::generator::DepthRangeSource::Config;
-    const simpli::generator::GeneratorInput input =
-        simpli::generator::sceneInput(scene, inputOptions);
-
-    const int corrections =
-        this->CorrectionSteps < 0 ? config.mliCorrections() : this->CorrectionSteps;
-    const std::string fwdKey = forwardKey(in.Key, corrections, input);
-    std::vector<float> pixels = sourcePixels(scene, views);
-    if (in.LastMLI && in.LastForwardKey == fwdKey && in.LastPixels == pixels) {
-      // Same network, sources and settings: only the mesh options changed.
-      stages.emplace_back("forward_reused", 0.0);
-    } else {
-      in.ForgetForward();
-      simpli::generator::GeneratorOptions options;
-      options.corrections = this->CorrectionSteps;
-      options.timeStages = true;
-      // Progress and abort after every stage of the pass: 0.2 .. 0.85 of the work.
-      options.progress = [this](const std::string&, int done, int total) {
-        this->UpdateProgress(0.2 + 0.65 * done / total);
-        return !this->GetAbortExecute();
-      };
-      simpli::generator::GeneratorOutput generated;
-      try {
-        simpli::ocl::NoGradGuard noGrad;
-        generated = simpli::generator::Generator(network).forward(input, options);
-      } catch (const simpli::generator::GeneratorCancelled&) {
-        vtkDebugMacro(<< "Aborted during the forward pass");
-        return 1;
-      }
-      for (const auto& stage : generated.stageMs)
-        stages.push_back(stage);
-      t0 = Clock::now();
-      in.LastMLI = simpli::generator::toMLI(generated, input.reference);
-      stages.emplace_back("to_mli", msSince(t0));
-      in.LastForwardKey = fwdKey;
-      in.LastPixels = std::move(pixels);
-    }
-    this->UpdateProgress(0.85);
-    if (this->GetAbortExecute())
-      return 1;
-
-    // --- the meshes -----------------------------------------------------------------------------
-    const simpli::mli::MLI& mli = *in.LastMLI;
-    simpli::vtkmli::LayerOptions layerOptions;
-    layerOptions.dropTransparentTriangles = this->DropTransparentTriangles;
-    layerOptions.alphaThreshold = this->EmptyLayerThreshold;
-    // "auto" layers; an MLI whose every layer is empty keeps them all (never an empty output).
-    layerOptions.skipEmptyLayers =
-        this->DropEmptyLayers &&
-        simpli::mli::emptyLayers(mli, static_cast<float>(this->EmptyLayerThreshold)).size() <
-            mli.layers.size();
-    t0 = Clock::now();
-    const bool complete =
-        simpli::vtkmli::mliToCollection(mli, layerOptions, output, [this](double f) {
-          this->UpdateProgress(0.9 + 0.1 * f);
-          return !this->GetAbortExecute();
-        });
-    if (!complete)
-      return 1;
-    stages.emplace_back("meshes", msSince(t0));
-
-    vtkFieldData* fd = output->GetFieldData();
-    auto names = vtkSmartPointer<vtkStringArray>::New();
-    names->SetName("StageNames");
-    auto times = vtkSmartPointer<vtkDoubleArray>::New();
-    times->SetName("StageTimes");
-    for (const auto& [name, ms] : stages) {
-      names->InsertNextValue(name);
-      times->InsertNextValue(ms);
-    }
-    fd->AddArray(names);
-    fd->AddArray(times);
-    auto viewArray = vtkSmartPointer<vtkIntArray>::New();
-    viewArray->SetName("SourceViews");
-    for (int v : views)
-      viewArray->InsertNextValue(v);
-    fd->AddArray(viewArray);
-    fd->AddArray(intValue("NumberOfPlanes", config.numPlanes));
-    fd->AddArray(stringValue("NetworkConfig", config.name));
-    fd->AddArray(stringValue("NetworkWeights", in.WeightsDescription));
-    this->UpdateProgress(1.0);
-    return 1;
-  } catch (const simpli::Error& e) {
-    vtkErrorMacro(<< "SIMPLI Build MLI: " << e.what());
-  } catch (const std::exception& e) {
-    vtkErrorMacro(<< "SIMPLI Build MLI: unexpected failure: " << e.what());
-  }
-  output->Initialize();
-  return 0;
+bool vtkSIMPLIBuildMLI::vtkInternals::FillLayers(vtkSIMPLIBuildMLI* self,
+                                                 const simpli::mli::MLI& mli,
+                                                 vtkPartitionedDataSetCollection* output,
+                                                 const simpli::vtkfilter::Progress& progress) {
+  simpli::vtkmli::LayerOptions layerOptions;
+  layerOptions.dropTransparentTriangles = self->DropTransparentTriangles;
+  layerOptions.alphaThreshold = self->EmptyLayerThreshold;
+  // "auto" layers; an MLI whose every layer is empty keeps them all (never an empty output).
+  layerOptions.skipEmptyLayers =
+      self->DropEmptyLayers &&
+      simpli::mli::emptyLayers(mli, static_cast<float>(self->EmptyLayerThreshold)).size() <
+          mli.layers.size();
+  return simpli::vtkmli::mliToCollection(mli, layerOptions, output, progress);
 }
 
 void vtkSIMPLIBuildMLI::PrintSelf(ostream& os, vtkIndent indent) {
@@ -378,5 +293,5 @@ void vtkSIMPLIBuildMLI::PrintSelf(ostream& os, vtkIndent indent) {
      << "\n";
   os << indent << "Device: " << (this->Device ? this->Device : "(current)") << "\n";
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
-  os << indent << "NetworkLoaded: " << (this->Internals->Network ? 1 : 0) << "\n";
+  os << indent << "NetworkLoaded: " << (this->Internals->Builder.hasNetwork() ? 1 : 0) << "\n";
 }

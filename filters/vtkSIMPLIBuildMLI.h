@@ -50,8 +50,8 @@
 #ifndef vtkSIMPLIBuildMLI_h
 #define vtkSIMPLIBuildMLI_h
 
-#include "vtkPartitionedDataSetCollectionAlgorithm.h"
 #include "vtkSimpliFiltersModule.h" // for export macro
+#include <vtkPartitionedDataSetCollectionAlgorithm.h>
 
 class VTKSIMPLIFILTERS_EXPORT vtkSIMPLIBuildMLI : public vtkPartitionedDataSetCollectionAlgorithm {
 public:

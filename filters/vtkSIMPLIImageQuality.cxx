@@ -1,19 +1,21 @@
 #include "vtkSIMPLIImageQuality.h"
 
-#include "vtkCompositeDataIterator.h"
-#include "vtkCompositeDataSet.h"
-#include "vtkDataArray.h"
-#include "vtkDataObject.h"
-#include "vtkDataSetAttributes.h"
-#include "vtkDoubleArray.h"
-#include "vtkImageData.h"
-#include "vtkInformation.h"
-#include "vtkInformationVector.h"
-#include "vtkObjectFactory.h"
-#include "vtkSmartPointer.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
-#include "vtkStringArray.h"
-#include "vtkTable.h"
+#include "SIMPLIFilter.h"
+
+#include <vtkCompositeDataIterator.h>
+#include <vtkCompositeDataSet.h>
+#include <vtkDataArray.h>
+#include <vtkDataObject.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkDoubleArray.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkSmartPointer.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkStringArray.h>
+#include <vtkTable.h>
 
 #include "simpli/error.h"
 #include "simpli/model/metrics/image_quality.h"
@@ -171,6 +173,51 @@ simpli::metrics::MetricImage toMetricImage(vtkDataArray* a, int association, int
   return m;
 }
 
+// PSNR and SSIM of one view pair on the central crop; errors name the view.
+simpli::metrics::ImageQuality viewQuality(const simpli::metrics::MetricImage& r,
+                                          const simpli::metrics::MetricImage& g, double crop,
+                                          const std::string& view) {
+  if (r.width != g.width || r.height != g.height || r.channels != g.channels)
+    simpli::fail(view, ": rendered image is ", r.width, " x ", r.height, " with ", r.channels,
+                 " channel(s) but the ground truth is ", g.width, " x ", g.height, " with ",
+                 g.channels);
+  try {
+    return simpli::metrics::evaluateImageQuality(r, g, crop);
+  } catch (const simpli::Error& e) {
+    simpli::fail(view, ": ", e.what());
+  }
+}
+
+// The output table: View ("0", "1", ..., "mean", "std"), PSNR, SSIM.
+void fillQualityTable(const std::vector<simpli::metrics::ImageQuality>& qualities,
+                      vtkTable* output) {
+  auto views = vtkSmartPointer<vtkStringArray>::New();
+  views->SetName("View");
+  auto psnr = vtkSmartPointer<vtkDoubleArray>::New();
+  psnr->SetName("PSNR");
+  auto ssim = vtkSmartPointer<vtkDoubleArray>::New();
+  ssim->SetName("SSIM");
+  std::vector<double> psnrs, ssims;
+  for (std::size_t v = 0; v < qualities.size(); ++v) {
+    views->InsertNextValue(std::to_string(v));
+    psnr->InsertNextValue(qualities[v].psnr);
+    ssim->InsertNextValue(qualities[v].ssim);
+    psnrs.push_back(qualities[v].psnr);
+    ssims.push_back(qualities[v].ssim);
+  }
+  const simpli::metrics::MeanStd ps = simpli::metrics::meanAndStd(psnrs),
+                                 ss = simpli::metrics::meanAndStd(ssims);
+  views->InsertNextValue("mean");
+  psnr->InsertNextValue(ps.mean);
+  ssim->InsertNextValue(ss.mean);
+  views->InsertNextValue("std");
+  psnr->InsertNextValue(ps.std);
+  ssim->InsertNextValue(ss.std);
+  output->AddColumn(views);
+  output->AddColumn(psnr);
+  output->AddColumn(ssim);
+}
+
 } // namespace
 
 int vtkSIMPLIImageQuality::RequestData(vtkInformation* vtkNotUsed(request),
@@ -183,77 +230,36 @@ int vtkSIMPLIImageQuality::RequestData(vtkInformation* vtkNotUsed(request),
   }
   output->Initialize();
 
-  try {
-    const std::vector<vtkImageData*> rendered =
-        collectViews(vtkDataObject::GetData(inputVector[0], 0), 0);
-    const std::vector<vtkImageData*> truth =
-        collectViews(vtkDataObject::GetData(inputVector[1], 0), 1);
-    if (rendered.empty()) {
-      simpli::fail("the ", portName(0), " input holds no image");
-    }
-    if (rendered.size() != truth.size()) {
-      simpli::fail("the ", portName(0), " input holds ", rendered.size(), " view(s) but the ",
-                   portName(1), " input holds ", truth.size());
-    }
-
-    auto views = vtkSmartPointer<vtkStringArray>::New();
-    views->SetName("View");
-    auto psnr = vtkSmartPointer<vtkDoubleArray>::New();
-    psnr->SetName("PSNR");
-    auto ssim = vtkSmartPointer<vtkDoubleArray>::New();
-    ssim->SetName("SSIM");
-    std::vector<double> psnrs, ssims;
-    for (std::size_t v = 0; v < rendered.size(); ++v) {
-      this->UpdateProgress(static_cast<double>(v) / static_cast<double>(rendered.size()));
-      if (this->GetAbortExecute()) {
-        output->Initialize();
-        return 1; // aborted: empty table, no error
-      }
-      const std::string view = "view " + std::to_string(v);
-      int assocR = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-      int assocG = vtkDataObject::FIELD_ASSOCIATION_POINTS;
-      vtkDataArray* arrayR = this->GetInputArrayToProcess(0, rendered[v], assocR);
-      vtkDataArray* arrayG = this->GetInputArrayToProcess(1, truth[v], assocG);
-      const simpli::metrics::MetricImage r =
-          toMetricImage(arrayR, assocR, 0, rendered[v], this->MaxValue, view + ", " + portName(0));
-      const simpli::metrics::MetricImage g =
-          toMetricImage(arrayG, assocG, 1, truth[v], this->MaxValue, view + ", " + portName(1));
-      if (r.width != g.width || r.height != g.height || r.channels != g.channels) {
-        simpli::fail(view, ": rendered image is ", r.width, " x ", r.height, " with ", r.channels,
-                     " channel(s) but the ground truth is ", g.width, " x ", g.height, " with ",
-                     g.channels);
-      }
-      simpli::metrics::ImageQuality q;
-      try {
-        q = simpli::metrics::evaluateImageQuality(r, g, this->CropAreaFraction);
-      } catch (const simpli::Error& e) {
-        simpli::fail(view, ": ", e.what());
-      }
-      views->InsertNextValue(std::to_string(v));
-      psnr->InsertNextValue(q.psnr);
-      ssim->InsertNextValue(q.ssim);
-      psnrs.push_back(q.psnr);
-      ssims.push_back(q.ssim);
-    }
-    const simpli::metrics::MeanStd ps = simpli::metrics::meanAndStd(psnrs),
-                                   ss = simpli::metrics::meanAndStd(ssims);
-    views->InsertNextValue("mean");
-    psnr->InsertNextValue(ps.mean);
-    ssim->InsertNextValue(ss.mean);
-    views->InsertNextValue("std");
-    psnr->InsertNextValue(ps.std);
-    ssim->InsertNextValue(ss.std);
-    output->AddColumn(views);
-    output->AddColumn(psnr);
-    output->AddColumn(ssim);
-    return 1;
-  } catch (const simpli::Error& e) {
-    vtkErrorMacro(<< "Image quality: " << e.what());
-  } catch (const std::exception& e) {
-    vtkErrorMacro(<< "Image quality: unexpected failure: " << e.what());
-  }
-  output->Initialize();
-  return 0;
+  return simpli::vtkfilter::runRequest(
+      this, "Image quality",
+      [&](const simpli::vtkfilter::Progress& progress) {
+        const std::vector<vtkImageData*> rendered =
+            collectViews(vtkDataObject::GetData(inputVector[0], 0), 0);
+        const std::vector<vtkImageData*> truth =
+            collectViews(vtkDataObject::GetData(inputVector[1], 0), 1);
+        if (rendered.empty())
+          simpli::fail("the ", portName(0), " input holds no image");
+        if (rendered.size() != truth.size())
+          simpli::fail("the ", portName(0), " input holds ", rendered.size(), " view(s) but the ",
+                       portName(1), " input holds ", truth.size());
+        std::vector<simpli::metrics::ImageQuality> qualities;
+        for (std::size_t v = 0; v < rendered.size(); ++v) {
+          if (!progress(static_cast<double>(v) / static_cast<double>(rendered.size())))
+            return; // aborted: empty table, no error
+          const std::string view = "view " + std::to_string(v);
+          int assocR = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+          int assocG = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+          vtkDataArray* arrayR = this->GetInputArrayToProcess(0, rendered[v], assocR);
+          vtkDataArray* arrayG = this->GetInputArrayToProcess(1, truth[v], assocG);
+          const simpli::metrics::MetricImage r = toMetricImage(
+              arrayR, assocR, 0, rendered[v], this->MaxValue, view + ", " + portName(0));
+          const simpli::metrics::MetricImage g =
+              toMetricImage(arrayG, assocG, 1, truth[v], this->MaxValue, view + ", " + portName(1));
+          qualities.push_back(viewQuality(r, g, this->CropAreaFraction, view));
+        }
+        fillQualityTable(qualities, output);
+      },
+      [output] { output->Initialize(); });
 }
 
 void vtkSIMPLIImageQuality::PrintSelf(ostream& os, vtkIndent indent) {

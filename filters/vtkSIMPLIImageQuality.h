@@ -36,7 +36,7 @@
 #define vtkSIMPLIImageQuality_h
 
 #include "vtkSimpliFiltersModule.h" // for export macro
-#include "vtkTableAlgorithm.h"
+#include <vtkTableAlgorithm.h>
 
 class VTKSIMPLIFILTERS_EXPORT vtkSIMPLIImageQuality : public vtkTableAlgorithm {
 public:

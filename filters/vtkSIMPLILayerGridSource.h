@@ -30,8 +30,8 @@
 #ifndef vtkSIMPLILayerGridSource_h
 #define vtkSIMPLILayerGridSource_h
 
-#include "vtkPolyDataAlgorithm.h"
 #include "vtkSimpliFiltersModule.h" // for export macro
+#include <vtkPolyDataAlgorithm.h>
 
 class VTKSIMPLIFILTERS_EXPORT vtkSIMPLILayerGridSource : public vtkPolyDataAlgorithm {
 public:

@@ -1,21 +1,22 @@
 #include "vtkSIMPLIRenderView.h"
 
+#include "SIMPLIFilter.h"
 #include "SIMPLIMLIToVTK.h"
 #include "SIMPLISceneToVTK.h"
 
-#include "vtkAlgorithmOutput.h"
-#include "vtkFieldData.h"
-#include "vtkFloatArray.h"
-#include "vtkImageData.h"
-#include "vtkInformation.h"
-#include "vtkInformationVector.h"
-#include "vtkIntArray.h"
-#include "vtkObjectFactory.h"
-#include "vtkPartitionedDataSetCollection.h"
-#include "vtkPointData.h"
-#include "vtkSmartPointer.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
-#include "vtkUnsignedCharArray.h"
+#include <vtkAlgorithmOutput.h>
+#include <vtkFieldData.h>
+#include <vtkFloatArray.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkObjectFactory.h>
+#include <vtkPartitionedDataSetCollection.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkUnsignedCharArray.h>
 
 #include "simpli/error.h"
 #include "simpli/model/raster/render_mli.h"
@@ -25,6 +26,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkSIMPLIRenderView);
@@ -178,6 +180,131 @@ int vtkSIMPLIRenderView::RequestUpdateExtent(vtkInformation* vtkNotUsed(request)
   return 1; // composite inputs are taken whole; no time is passed on (they are static)
 }
 
+namespace {
+
+// The camera of input 1's view ViewIndex.
+simpli::scene::Camera sceneViewCamera(vtkSIMPLIRenderView* self,
+                                      vtkPartitionedDataSetCollection* sceneInput) {
+  if (!sceneInput)
+    simpli::fail("render view: CameraMode is scene view but no scene is connected to input 1");
+  const std::vector<simpli::scene::Camera> cams =
+      simpli::vtkscene::sceneCameras(sceneInput, "render view: scene input");
+  if (self->GetViewIndex() >= static_cast<int>(cams.size()))
+    simpli::fail("render view: ViewIndex ", self->GetViewIndex(),
+                 " is out of range (the scene has ", cams.size(), " views)");
+  return cams[static_cast<std::size_t>(self->GetViewIndex())];
+}
+
+// Intrinsics, Extrinsics and ImageSize (0, 0: the size of `camera`, the MLI's) as a camera.
+simpli::scene::Camera explicitCamera(vtkSIMPLIRenderView* self, simpli::scene::Camera camera) {
+  const double* k = self->GetIntrinsics();
+  const double* e = self->GetExtrinsics();
+  const int* size = self->GetImageSize();
+  camera.fx = k[0];
+  camera.fy = k[1];
+  camera.cx = k[2];
+  camera.cy = k[3];
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c)
+      camera.R(r, c) = e[4 * r + c];
+    camera.t(r) = e[4 * r + 3];
+  }
+  if (size[0] > 0 || size[1] > 0) {
+    if (size[0] <= 0 || size[1] <= 0)
+      simpli::fail("render view: ImageSize (", size[0], ", ", size[1],
+                   ") must be both positive or both 0 (the MLI's size)");
+    camera.width = size[0];
+    camera.height = size[1];
+  }
+  simpli::mli::validateMLICamera(camera, "render view: explicit camera (Intrinsics, Extrinsics)");
+  return camera;
+}
+
+// Frame `frame` of the trajectory (TrajectoryType, NumberOfFrames, TrajectoryRadii, FocusDepth)
+// around the MLI's camera, with the scene's cameras and bounds when input 1 has a scene. The
+// frame is FrameIndex, or the pipeline's time step when one is requested.
+simpli::scene::Camera trajectoryCamera(vtkSIMPLIRenderView* self, const simpli::mli::MLI& mli,
+                                       vtkPartitionedDataSetCollection* sceneInput,
+                                       vtkInformation* outInfo, int& frame) {
+  simpli::scene::TrajectoryOptions o;
+  o.kind = self->GetTrajectoryType() == vtkSIMPLIRenderView::TRAJECTORY_ORBIT
+               ? simpli::scene::TrajectoryKind::Orbit
+               : simpli::scene::TrajectoryKind::Spiral;
+  o.frames = self->GetNumberOfFrames();
+  const double* radii = self->GetTrajectoryRadii();
+  o.radii = Eigen::Vector3d(radii[0], radii[1], radii[2]);
+  o.focusDepth = self->GetFocusDepth();
+  std::vector<simpli::scene::Camera> cams;
+  double near = 0, far = 0;
+  if (sceneInput) {
+    cams = simpli::vtkscene::sceneCameras(sceneInput, "render view: scene input");
+    simpli::vtkscene::nearFarFromFieldData(sceneInput->GetFieldData(), "render view: scene input",
+                                           near, far);
+  }
+  if (!(near > 0))
+    depthRange(mli, near, far);
+  o = simpli::scene::resolveTrajectory(o, mli.camera, cams, near, far);
+  frame = self->GetFrameIndex();
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())) {
+    const double t = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    frame = std::isfinite(t) ? static_cast<int>(std::lround(t)) : 0;
+    frame = std::max(0, std::min(frame, self->GetNumberOfFrames() - 1));
+  }
+  if (frame >= self->GetNumberOfFrames())
+    simpli::fail("render view: FrameIndex ", frame, " is out of range (NumberOfFrames ",
+                 self->GetNumberOfFrames(), ")");
+  return simpli::scene::trajectoryCamera(mli.camera, o, static_cast<double>(frame) / o.frames);
+}
+
+// The render as the output image: RGB (8-bit, point scalars), Depth and Opacity, VTK row order
+// (row 0 at the bottom), the camera and the frame as field data.
+void fillImage(vtkImageData* output, const simpli::raster::RenderedLayers& r,
+               const simpli::scene::Camera& camera, int frame) {
+  const int W = camera.width, H = camera.height;
+  const std::vector<float> colour = r.colour.toVectorF32();
+  const std::vector<float> depth = r.depth.toVectorF32();
+  const std::vector<float> opacity = r.opacity.toVectorF32();
+  const std::size_t n = static_cast<std::size_t>(W) * H;
+  auto rgb = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  rgb->SetName(simpli::vtkscene::kRGBArray);
+  rgb->SetNumberOfComponents(3);
+  rgb->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  auto z = vtkSmartPointer<vtkFloatArray>::New();
+  z->SetName("Depth");
+  z->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  auto a = vtkSmartPointer<vtkFloatArray>::New();
+  a->SetName("Opacity");
+  a->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  for (int y = 0; y < H; ++y) {
+    const std::size_t row = static_cast<std::size_t>(H - 1 - y); // VTK row 0 = bottom
+    for (int x = 0; x < W; ++x) {
+      const std::size_t src = static_cast<std::size_t>(y) * W + x, dst = row * W + x;
+      for (int c = 0; c < 3; ++c) {
+        const double v = std::round(255.0 * colour[c * n + src]);
+        rgb->SetTypedComponent(static_cast<vtkIdType>(dst), c,
+                               static_cast<unsigned char>(v < 0 ? 0 : (v > 255 ? 255 : v)));
+      }
+      z->SetValue(static_cast<vtkIdType>(dst), depth[src]);
+      a->SetValue(static_cast<vtkIdType>(dst), opacity[src]);
+    }
+  }
+  output->SetExtent(0, W - 1, 0, H - 1, 0, 0);
+  output->SetSpacing(1, 1, 1);
+  output->SetOrigin(0, 0, 0);
+  output->GetPointData()->SetScalars(rgb);
+  output->GetPointData()->AddArray(z);
+  output->GetPointData()->AddArray(a);
+  simpli::vtkmli::addCameraFieldData(output->GetFieldData(), camera);
+  auto frameArray = vtkSmartPointer<vtkIntArray>::New();
+  frameArray->SetName("FrameIndex");
+  frameArray->InsertNextValue(frame);
+  output->GetFieldData()->AddArray(frameArray);
+  if (frame >= 0)
+    output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frame);
+}
+
+} // namespace
+
 int vtkSIMPLIRenderView::RequestData(vtkInformation* vtkNotUsed(request),
                                      vtkInformationVector** inputVector,
                                      vtkInformationVector* outputVector) {
@@ -188,159 +315,49 @@ int vtkSIMPLIRenderView::RequestData(vtkInformation* vtkNotUsed(request),
     return 0;
   }
   output->Initialize();
+  const std::string what =
+      std::string("SIMPLI render view (") + modeName(this->CameraMode) + " camera)";
+  return simpli::vtkfilter::runRequest(
+      this, what,
+      [&](const simpli::vtkfilter::Progress& progress) {
+        auto* mliInput = vtkPartitionedDataSetCollection::GetData(inputVector[0], 0);
+        if (!mliInput)
+          simpli::fail("render view: input 0 (the MLI) is missing or not a "
+                       "vtkPartitionedDataSetCollection of layers");
+        auto* sceneInput = inputVector[1]->GetNumberOfInformationObjects() > 0
+                               ? vtkPartitionedDataSetCollection::GetData(inputVector[1], 0)
+                               : nullptr;
+        progress(0.0);
+        const simpli::mli::MLI mli =
+            simpli::vtkmli::collectionToMLI(mliInput, "render view: MLI input");
 
-  try {
-    auto* mliInput = vtkPartitionedDataSetCollection::GetData(inputVector[0], 0);
-    if (!mliInput)
-      simpli::fail("render view: input 0 (the MLI) is missing or not a "
-                   "vtkPartitionedDataSetCollection of layers");
-    auto* sceneInput = inputVector[1]->GetNumberOfInformationObjects() > 0
-                           ? vtkPartitionedDataSetCollection::GetData(inputVector[1], 0)
-                           : nullptr;
-    this->UpdateProgress(0.0);
-    const simpli::mli::MLI mli =
-        simpli::vtkmli::collectionToMLI(mliInput, "render view: MLI input");
+        simpli::scene::Camera camera = mli.camera;
+        int frame = -1;
+        if (this->CameraMode == CAMERA_SCENE_VIEW)
+          camera = sceneViewCamera(this, sceneInput);
+        else if (this->CameraMode == CAMERA_EXPLICIT)
+          camera = explicitCamera(this, camera);
+        else if (this->CameraMode == CAMERA_TRAJECTORY)
+          camera = trajectoryCamera(this, mli, sceneInput, outInfo, frame);
+        // Output size: Width / Height override the camera's (one of them: keep the aspect ratio).
+        outputSize(camera.width, camera.height, this->Width, this->Height, camera.width,
+                   camera.height);
 
-    simpli::scene::Camera camera = mli.camera;
-    int frame = -1;
-    switch (this->CameraMode) {
-    case CAMERA_SCENE_VIEW: {
-      if (!sceneInput)
-        simpli::fail("render view: CameraMode is scene view but no scene is connected to input 1");
-      const std::vector<simpli::scene::Camera> cams =
-          simpli::vtkscene::sceneCameras(sceneInput, "render view: scene input");
-      if (this->ViewIndex >= static_cast<int>(cams.size()))
-        simpli::fail("render view: ViewIndex ", this->ViewIndex, " is out of range (the scene has ",
-                     cams.size(), " views)");
-      camera = cams[static_cast<std::size_t>(this->ViewIndex)];
-      break;
-    }
-    case CAMERA_EXPLICIT: {
-      camera.fx = this->Intrinsics[0];
-      camera.fy = this->Intrinsics[1];
-      camera.cx = this->Intrinsics[2];
-      camera.cy = this->Intrinsics[3];
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c)
-          camera.R(r, c) = this->Extrinsics[4 * r + c];
-        camera.t(r) = this->Extrinsics[4 * r + 3];
-      }
-      if (this->ImageSize[0] > 0 || this->ImageSize[1] > 0) {
-        if (this->ImageSize[0] <= 0 || this->ImageSize[1] <= 0)
-          simpli::fail("render view: ImageSize (", this->ImageSize[0], ", ", this->ImageSize[1],
-                       ") must be both positive or both 0 (the MLI's size)");
-        camera.width = this->ImageSize[0];
-        camera.height = this->ImageSize[1];
-      }
-      simpli::mli::validateMLICamera(camera,
-                                     "render view: explicit camera (Intrinsics, Extrinsics)");
-      break;
-    }
-    case CAMERA_TRAJECTORY: {
-      simpli::scene::TrajectoryOptions o;
-      o.kind = this->TrajectoryType == TRAJECTORY_ORBIT ? simpli::scene::TrajectoryKind::Orbit
-                                                        : simpli::scene::TrajectoryKind::Spiral;
-      o.frames = this->NumberOfFrames;
-      o.radii = Eigen::Vector3d(this->TrajectoryRadii[0], this->TrajectoryRadii[1],
-                                this->TrajectoryRadii[2]);
-      o.focusDepth = this->FocusDepth;
-      std::vector<simpli::scene::Camera> cams;
-      double near = 0, far = 0;
-      if (sceneInput) {
-        cams = simpli::vtkscene::sceneCameras(sceneInput, "render view: scene input");
-        simpli::vtkscene::nearFarFromFieldData(sceneInput->GetFieldData(),
-                                               "render view: scene input", near, far);
-      }
-      if (!(near > 0))
-        depthRange(mli, near, far);
-      o = simpli::scene::resolveTrajectory(o, mli.camera, cams, near, far);
-      frame = this->FrameIndex;
-      if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())) {
-        const double t = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
-        frame = std::isfinite(t) ? static_cast<int>(std::lround(t)) : 0;
-        frame = std::max(0, std::min(frame, this->NumberOfFrames - 1));
-      }
-      if (frame >= this->NumberOfFrames)
-        simpli::fail("render view: FrameIndex ", frame, " is out of range (NumberOfFrames ",
-                     this->NumberOfFrames, ")");
-      camera =
-          simpli::scene::trajectoryCamera(mli.camera, o, static_cast<double>(frame) / o.frames);
-      break;
-    }
-    default:
-      break;
-    }
-
-    // Output size: Width / Height override the camera's (one of them: keep the aspect ratio).
-    int W = 0, H = 0;
-    outputSize(camera.width, camera.height, this->Width, this->Height, W, H);
-    camera.width = W;
-    camera.height = H;
-
-    simpli::raster::RasterSettings settings;
-    settings.maxFragments = this->MaxFragments;
-    settings.interpolation = this->Interpolation == PERSPECTIVE_CORRECT
-                                 ? simpli::raster::RasterInterpolation::PerspectiveCorrect
-                                 : simpli::raster::RasterInterpolation::ScreenLinear;
-    this->UpdateProgress(0.2);
-    if (this->GetAbortExecute())
-      return 1;
-    const simpli::raster::RenderedLayers r = simpli::raster::renderMLI(mli, camera, settings);
-    const std::vector<float> colour = r.colour.toVectorF32();
-    const std::vector<float> depth = r.depth.toVectorF32();
-    const std::vector<float> opacity = r.opacity.toVectorF32();
-    this->UpdateProgress(0.9);
-
-    const std::size_t n = static_cast<std::size_t>(W) * H;
-    auto rgb = vtkSmartPointer<vtkUnsignedCharArray>::New();
-    rgb->SetName(simpli::vtkscene::kRGBArray);
-    rgb->SetNumberOfComponents(3);
-    rgb->SetNumberOfTuples(static_cast<vtkIdType>(n));
-    auto z = vtkSmartPointer<vtkFloatArray>::New();
-    z->SetName("Depth");
-    z->SetNumberOfTuples(static_cast<vtkIdType>(n));
-    auto a = vtkSmartPointer<vtkFloatArray>::New();
-    a->SetName("Opacity");
-    a->SetNumberOfTuples(static_cast<vtkIdType>(n));
-    for (int y = 0; y < H; ++y) {
-      const std::size_t row = static_cast<std::size_t>(H - 1 - y); // VTK row 0 = bottom
-      for (int x = 0; x < W; ++x) {
-        const std::size_t src = static_cast<std::size_t>(y) * W + x, dst = row * W + x;
-        for (int c = 0; c < 3; ++c) {
-          const double v = std::round(255.0 * colour[c * n + src]);
-          rgb->SetTypedComponent(static_cast<vtkIdType>(dst), c,
-                                 static_cast<unsigned char>(v < 0 ? 0 : (v > 255 ? 255 : v)));
-        }
-        z->SetValue(static_cast<vtkIdType>(dst), depth[src]);
-        a->SetValue(static_cast<vtkIdType>(dst), opacity[src]);
-      }
-    }
-    output->SetExtent(0, W - 1, 0, H - 1, 0, 0);
-    output->SetSpacing(1, 1, 1);
-    output->SetOrigin(0, 0, 0);
-    output->GetPointData()->SetScalars(rgb);
-    output->GetPointData()->AddArray(z);
-    output->GetPointData()->AddArray(a);
-    simpli::vtkmli::addCameraFieldData(output->GetFieldData(), camera);
-    auto frameArray = vtkSmartPointer<vtkIntArray>::New();
-    frameArray->SetName("FrameIndex");
-    frameArray->InsertNextValue(frame);
-    output->GetFieldData()->AddArray(frameArray);
-    const int extent[6] = {0, W - 1, 0, H - 1, 0, 0};
-    outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
-    if (frame >= 0)
-      output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frame);
-    this->UpdateProgress(1.0);
-    return 1;
-  } catch (const simpli::Error& e) {
-    vtkErrorMacro(<< "SIMPLI render view (" << modeName(this->CameraMode)
-                  << " camera): " << e.what());
-  } catch (const std::exception& e) {
-    vtkErrorMacro(<< "SIMPLI render view (" << modeName(this->CameraMode)
-                  << " camera): unexpected failure: " << e.what());
-  }
-  output->Initialize();
-  return 0;
+        simpli::raster::RasterSettings settings;
+        settings.maxFragments = this->MaxFragments;
+        settings.interpolation = this->Interpolation == PERSPECTIVE_CORRECT
+                                     ? simpli::raster::RasterInterpolation::PerspectiveCorrect
+                                     : simpli::raster::RasterInterpolation::ScreenLinear;
+        if (!progress(0.2))
+          return;
+        const simpli::raster::RenderedLayers r = simpli::raster::renderMLI(mli, camera, settings);
+        progress(0.9);
+        fillImage(output, r, camera, frame);
+        const int extent[6] = {0, camera.width - 1, 0, camera.height - 1, 0, 0};
+        outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+        progress(1.0);
+      },
+      [output] { output->Initialize(); });
 }
 
 void vtkSIMPLIRenderView::PrintSelf(ostream& os, vtkIndent indent) {

@@ -41,8 +41,8 @@
 #ifndef vtkSIMPLIRenderView_h
 #define vtkSIMPLIRenderView_h
 
-#include "vtkImageAlgorithm.h"
 #include "vtkSimpliFiltersModule.h" // for export macro
+#include <vtkImageAlgorithm.h>
 
 class VTKSIMPLIFILTERS_EXPORT vtkSIMPLIRenderView : public vtkImageAlgorithm {
 public:

@@ -1,24 +1,25 @@
 #include "vtkSIMPLISceneReader.h"
 
+#include "SIMPLIFilter.h"
 #include "SIMPLIMLIToVTK.h"
 #include "SIMPLISceneToVTK.h"
 
-#include "vtkCellArray.h"
-#include "vtkCellData.h"
-#include "vtkCompositeDataSet.h"
-#include "vtkDataAssembly.h"
-#include "vtkDoubleArray.h"
-#include "vtkFieldData.h"
-#include "vtkImageData.h"
-#include "vtkInformation.h"
-#include "vtkInformationVector.h"
-#include "vtkIntArray.h"
-#include "vtkObjectFactory.h"
-#include "vtkPartitionedDataSetCollection.h"
-#include "vtkPoints.h"
-#include "vtkPolyData.h"
-#include "vtkSmartPointer.h"
-#include "vtkStringArray.h"
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCompositeDataSet.h>
+#include <vtkDataAssembly.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkObjectFactory.h>
+#include <vtkPartitionedDataSetCollection.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
 
 #include "simpli/error.h"
 #include "simpli/model/scene/scene.h"
@@ -105,6 +106,48 @@ int vtkSIMPLISceneReader::CanReadFile(const char* name) {
   }
 }
 
+namespace {
+
+// The scene's views as images with their cameras (one partition each, assembly
+// /Scene/Views/ViewNN) and the scene's bounds, normalisation, format and view count as field
+// data. False when aborted.
+bool viewsToVTK(const simpli::scene::Scene& scene, vtkPartitionedDataSetCollection* views,
+                const simpli::vtkfilter::Progress& progress) {
+  auto assembly = vtkSmartPointer<vtkDataAssembly>::New();
+  assembly->SetRootNodeName("Scene");
+  const int viewsNode = assembly->AddNode("Views");
+  for (std::size_t v = 0; v < scene.views.size(); ++v) {
+    if (!progress(static_cast<double>(v) / scene.views.size()))
+      return false;
+    const simpli::scene::SceneView& view = scene.views[v];
+    auto image = vtkSmartPointer<vtkImageData>::New();
+    simpli::vtkscene::imageToVTK(view.image, image);
+    vtkFieldData* fd = image->GetFieldData();
+    simpli::vtkmli::addCameraFieldData(fd, view.camera);
+    fd->AddArray(intValue(simpli::vtkscene::kViewIndexArray, static_cast<int>(v)));
+    fd->AddArray(stringValue(simpli::vtkscene::kViewNameArray, view.name));
+    fd->AddArray(stringValue(simpli::vtkscene::kImagePathArray, view.imagePath));
+    const unsigned int index = static_cast<unsigned int>(v);
+    const std::string name = simpli::vtkscene::viewName(static_cast<int>(v));
+    views->SetPartition(index, 0, image);
+    views->GetMetaData(index)->Set(vtkCompositeDataSet::NAME(), name.c_str());
+    assembly->AddDataSetIndex(assembly->AddNode(name.c_str(), viewsNode), index);
+  }
+  views->SetDataAssembly(assembly);
+  vtkFieldData* fd = views->GetFieldData();
+  simpli::vtkscene::addNearFar(fd, scene.near, scene.far);
+  auto scale = vtkSmartPointer<vtkDoubleArray>::New();
+  scale->SetName(simpli::vtkscene::kNormalisationScaleArray);
+  scale->InsertNextValue(scene.normalisation.scale);
+  fd->AddArray(scale);
+  fd->AddArray(
+      stringValue(simpli::vtkscene::kSceneFormatArray, simpli::scene::toString(scene.format)));
+  fd->AddArray(intValue(simpli::vtkscene::kNumberOfViewsArray, static_cast<int>(scene.size())));
+  return true;
+}
+
+} // namespace
+
 int vtkSIMPLISceneReader::RequestData(vtkInformation* vtkNotUsed(request),
                                       vtkInformationVector** vtkNotUsed(inputVector),
                                       vtkInformationVector* outputVector) {
@@ -123,67 +166,33 @@ int vtkSIMPLISceneReader::RequestData(vtkInformation* vtkNotUsed(request),
     return 0;
   }
 
-  try {
-    simpli::scene::SceneReadOptions options;
-    options.sizeMultiple = this->SizeMultiple;
-    if (this->ImagesDirectory)
-      options.imagesDir = this->ImagesDirectory;
-    if (!this->Normalise)
-      options.normalisation.mode = simpli::scene::NormalisationMode::None;
-    this->UpdateProgress(0.0);
-    const simpli::scene::Scene scene = simpli::scene::readScene(this->FileName, options);
-    // Reading and decoding the images is nearly all of the work.
-    this->UpdateProgress(0.8);
-    if (this->GetAbortExecute())
-      return 1; // aborted: empty outputs, no error
-
-    auto assembly = vtkSmartPointer<vtkDataAssembly>::New();
-    assembly->SetRootNodeName("Scene");
-    const int viewsNode = assembly->AddNode("Views");
-    for (std::size_t v = 0; v < scene.views.size(); ++v) {
-      this->UpdateProgress(0.8 + 0.2 * static_cast<double>(v) / scene.views.size());
-      if (this->GetAbortExecute()) {
+  const std::string what = std::string("Cannot read scene '") + this->FileName + "'";
+  return simpli::vtkfilter::runRequest(
+      this, what,
+      [&](const simpli::vtkfilter::Progress& progress) {
+        simpli::scene::SceneReadOptions options;
+        options.sizeMultiple = this->SizeMultiple;
+        if (this->ImagesDirectory)
+          options.imagesDir = this->ImagesDirectory;
+        if (!this->Normalise)
+          options.normalisation.mode = simpli::scene::NormalisationMode::None;
+        progress(0.0);
+        const simpli::scene::Scene scene = simpli::scene::readScene(this->FileName, options);
+        // Reading and decoding the images is nearly all of the work.
+        if (!progress(0.8))
+          return; // aborted: empty outputs, no error
+        if (!viewsToVTK(scene, views, progress.range(0.8, 1.0))) {
+          views->Initialize();
+          return;
+        }
+        buildFrustums(scene.cameras(), this->FrustumScale, frustums);
+        simpli::vtkscene::addNearFar(frustums->GetFieldData(), scene.near, scene.far);
+        progress(1.0);
+      },
+      [views, frustums] {
         views->Initialize();
-        return 1;
-      }
-      const simpli::scene::SceneView& view = scene.views[v];
-      auto image = vtkSmartPointer<vtkImageData>::New();
-      simpli::vtkscene::imageToVTK(view.image, image);
-      vtkFieldData* fd = image->GetFieldData();
-      simpli::vtkmli::addCameraFieldData(fd, view.camera);
-      fd->AddArray(intValue(simpli::vtkscene::kViewIndexArray, static_cast<int>(v)));
-      fd->AddArray(stringValue(simpli::vtkscene::kViewNameArray, view.name));
-      fd->AddArray(stringValue(simpli::vtkscene::kImagePathArray, view.imagePath));
-      const unsigned int index = static_cast<unsigned int>(v);
-      const std::string name = simpli::vtkscene::viewName(static_cast<int>(v));
-      views->SetPartition(index, 0, image);
-      views->GetMetaData(index)->Set(vtkCompositeDataSet::NAME(), name.c_str());
-      assembly->AddDataSetIndex(assembly->AddNode(name.c_str(), viewsNode), index);
-    }
-    views->SetDataAssembly(assembly);
-    vtkFieldData* fd = views->GetFieldData();
-    simpli::vtkscene::addNearFar(fd, scene.near, scene.far);
-    auto scale = vtkSmartPointer<vtkDoubleArray>::New();
-    scale->SetName(simpli::vtkscene::kNormalisationScaleArray);
-    scale->InsertNextValue(scene.normalisation.scale);
-    fd->AddArray(scale);
-    fd->AddArray(
-        stringValue(simpli::vtkscene::kSceneFormatArray, simpli::scene::toString(scene.format)));
-    fd->AddArray(intValue(simpli::vtkscene::kNumberOfViewsArray, static_cast<int>(scene.size())));
-
-    buildFrustums(scene.cameras(), this->FrustumScale, frustums);
-    simpli::vtkscene::addNearFar(frustums->GetFieldData(), scene.near, scene.far);
-    this->UpdateProgress(1.0);
-    return 1;
-  } catch (const simpli::Error& e) {
-    vtkErrorMacro(<< "Cannot read scene '" << this->FileName << "': " << e.what());
-  } catch (const std::exception& e) {
-    vtkErrorMacro(<< "Cannot read scene '" << this->FileName
-                  << "': unexpected failure: " << e.what());
-  }
-  views->Initialize();
-  frustums->Initialize();
-  return 0;
+        frustums->Initialize();
+      });
 }
 
 void vtkSIMPLISceneReader::PrintSelf(ostream& os, vtkIndent indent) {

@@ -36,8 +36,8 @@
 #ifndef vtkSIMPLISceneReader_h
 #define vtkSIMPLISceneReader_h
 
-#include "vtkPartitionedDataSetCollectionAlgorithm.h"
 #include "vtkSimpliFiltersModule.h" // for export macro
+#include <vtkPartitionedDataSetCollectionAlgorithm.h>
 
 class VTKSIMPLIFILTERS_EXPORT vtkSIMPLISceneReader
     : public vtkPartitionedDataSetCollectionAlgorithm {

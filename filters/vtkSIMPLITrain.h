@@ -40,7 +40,7 @@
 #define vtkSIMPLITrain_h
 
 #include "vtkSimpliFiltersModule.h" // for export macro
-#include "vtkTableAlgorithm.h"
+#include <vtkTableAlgorithm.h>
 
 class VTKSIMPLIFILTERS_EXPORT vtkSIMPLITrain : public vtkTableAlgorithm {
 public:

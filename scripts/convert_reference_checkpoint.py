@@ -5,7 +5,7 @@ The official code (SamsungLabs/MLI) saves PyTorch checkpoints such as
 pretrained/model4_layers/model.gen_00660000.pt. This script loads one on the CPU, takes the
 generator's state dict, strips the `module.` prefix that DataParallel / apex leave on every key,
 and writes the tensors as float32 safetensors with the reference key names (which are the
-names simpli's parameter store uses, simpli_reference.md §5), plus `__metadata__` entries
+names simpli's parameter store uses, spec §5), plus `__metadata__` entries
 `config` (official-4l or official-8l, which `simpli infer` resolves to the built-in config) and
 `n_parameters`.
 

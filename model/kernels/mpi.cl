@@ -1,4 +1,4 @@
-// MPI rendering into target cameras (simpli_reference.md §6.4): for every target pixel the unit
+// MPI rendering into target cameras (spec §6.4): for every target pixel the unit
 // ray from the target centre meets each reference plane, the hit is projected into the
 // reference camera and the plane's features + alpha are bilinearly gathered (zero padding,
 // align_corners = False); the planes are then over-composited in index order (0 = back) with

@@ -1,4 +1,4 @@
-// Surface sampling ("unprojection", simpli_reference.md §6.3 and §6.5): every reference pixel of
+// Surface sampling ("unprojection", spec §6.3 and §6.5): every reference pixel of
 // every surface is placed in 3-D, projected into each source view and bilinearly gathered from
 // the view's map (F.grid_sample semantics: zero padding, align_corners = False), with the
 // validity mask |gx| <= 1 && |gy| <= 1.

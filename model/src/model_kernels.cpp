@@ -1,6 +1,6 @@
 #include "model_kernels.h"
 
-#include <simpli/ocl/program_cache.h>
+#include "simpli/ocl/program_cache.h"
 
 #include <map>
 #include <mutex>

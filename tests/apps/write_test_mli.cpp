@@ -3,7 +3,7 @@
 //   <dir>/replace_me             a valid lossless MLI that a --force conversion replaces
 //   <dir>/bad_meta               an MLI folder whose meta.json is cut off
 // <dir> is emptied first, so outputs of earlier runs (<dir>/out) do not survive.
-#include <simpli/model/mli/files.h>
+#include "simpli/model/mli/files.h"
 
 #include <cmath>
 #include <cstdio>

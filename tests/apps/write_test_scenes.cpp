@@ -1,9 +1,9 @@
 // Writes the small scenes the command-line tests run on (tests/apps/CMakeLists.txt):
 //   <dir>/llff, <dir>/colmap, <dir>/re10k            valid scenes, 3 views of 48 x 32
 //   <dir>/bad_npy, <dir>/bad_rotation, <dir>/distorted  bad input
-#include "scene_fixtures.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/model/io/npy.h>
+#include "simpli/model/io/npy.h"
 
 #include <cstdio>
 #include <exception>

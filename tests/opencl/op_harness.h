@@ -5,7 +5,7 @@
 //  * backward: the op runs in float64 on the device; its analytic gradient (autograd) of
 //    L = sum(out * W), W random, is compared with central finite differences of L.
 // Buffers are poisoned (NaN) while the op runs, so elements it forgets to write show.
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <functional>
 #include <string>

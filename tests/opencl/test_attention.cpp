@@ -4,7 +4,7 @@
 #include "op_harness.h"
 #include "test_support.h"
 
-#include <simpli/ocl/ops_attention.h>
+#include "simpli/ocl/ops_attention.h"
 
 #include <gtest/gtest.h>
 

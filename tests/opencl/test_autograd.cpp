@@ -1,10 +1,10 @@
 // Tape semantics: accumulation, shared subexpressions, no-grad mode, clipping, errors.
-#include <simpli/error.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/buffer_pool.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
+#include "simpli/error.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/buffer_pool.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The buffer pool: reuse of released buffers by size, and the cap on parked bytes.
-#include <simpli/ocl/buffer_pool.h>
-#include <simpli/ocl/device.h>
+#include "simpli/ocl/buffer_pool.h"
+#include "simpli/ocl/device.h"
 
 #include <gtest/gtest.h>
 

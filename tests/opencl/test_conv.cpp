@@ -4,11 +4,11 @@
 #include "op_harness.h"
 #include "test_support.h"
 
-#include <simpli/error.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/buffer_pool.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/ops_conv.h>
+#include "simpli/error.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/buffer_pool.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_conv.h"
 
 #include <gtest/gtest.h>
 

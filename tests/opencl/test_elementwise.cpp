@@ -2,10 +2,10 @@
 // unary functions, and their extremes.
 #include "op_harness.h"
 
-#include <simpli/error.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
+#include "simpli/error.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
 
 #include <gtest/gtest.h>
 

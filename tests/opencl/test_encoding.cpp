@@ -3,8 +3,8 @@
 #include "op_harness.h"
 #include "test_support.h"
 
-#include <simpli/error.h>
-#include <simpli/ocl/ops_encoding.h>
+#include "simpli/error.h"
+#include "simpli/ocl/ops_encoding.h"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
 // End to end: a two-layer conv net (conv3x3 -> ELU -> conv3x3) trained with Adam fits a fixed
 // target produced by a random "teacher" net of the same shape to near-zero loss. Exercises
 // conv forward/backward, the tape, gradient accumulation, clipping and the optimiser together.
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_conv.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_loss.h>
-#include <simpli/ocl/optim.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_conv.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_loss.h"
+#include "simpli/ocl/optim.h"
 
 #include <gtest/gtest.h>
 

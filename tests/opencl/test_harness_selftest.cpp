@@ -2,8 +2,8 @@
 // output element each produce a failure.
 #include "op_harness.h"
 
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
 
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>

@@ -5,11 +5,11 @@
 
 #include "../../opencl/src/tuning.h" // internal: the tuning-table parser under test
 
-#include <simpli/error.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/ops_linalg.h>
-#include <simpli/ocl/ops_reduce.h>
+#include "simpli/error.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_linalg.h"
+#include "simpli/ocl/ops_reduce.h"
 
 #include <gtest/gtest.h>
 

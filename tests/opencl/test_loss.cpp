@@ -3,10 +3,10 @@
 #include "op_harness.h"
 #include "test_support.h"
 
-#include <simpli/error.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_loss.h>
+#include "simpli/error.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_loss.h"
 
 #include <gtest/gtest.h>
 

@@ -4,12 +4,12 @@
 #include "op_harness.h"
 #include "test_support.h"
 
-#include <simpli/error.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_norm.h>
-#include <simpli/ocl/ops_reduce.h>
+#include "simpli/error.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_norm.h"
+#include "simpli/ocl/ops_reduce.h"
 
 #include <gtest/gtest.h>
 

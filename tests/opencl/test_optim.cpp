@@ -1,10 +1,10 @@
 // Adam / AdamW against a plain double implementation of PyTorch's update, checkpoint
 // export / import (bit-for-bit resume), a small end-to-end fit, learning-rate schedules at
 // known steps, and bad use.
-#include <simpli/error.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_loss.h>
-#include <simpli/ocl/optim.h>
+#include "simpli/error.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_loss.h"
+#include "simpli/ocl/optim.h"
 
 #include <gtest/gtest.h>
 

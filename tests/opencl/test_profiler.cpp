@@ -1,8 +1,8 @@
 // The kernel profiler: off by default (nothing recorded), on: every launch and GEMM counted
 // under its name with a non-negative time; the report lists them.
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_linalg.h>
-#include <simpli/ocl/profiler.h>
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_linalg.h"
+#include "simpli/ocl/profiler.h"
 
 #include <gtest/gtest.h>
 

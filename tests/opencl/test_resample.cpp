@@ -4,12 +4,12 @@
 #include "op_harness.h"
 #include "test_support.h"
 
-#include <simpli/error.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_pool.h>
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_resample.h>
+#include "simpli/error.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_pool.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_resample.h"
 
 #include <gtest/gtest.h>
 

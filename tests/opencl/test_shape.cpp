@@ -3,11 +3,11 @@
 #include "op_harness.h"
 #include "test_support.h"
 
-#include <simpli/error.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/error.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // Small helpers shared by the engine's test files (the op harness itself is op_harness.h).
 #include "op_harness.h"
 
-#include <simpli/error.h>
+#include "simpli/error.h"
 
 #include <gtest/gtest.h>
 

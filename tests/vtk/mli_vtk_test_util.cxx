@@ -4,13 +4,10 @@
 #include <vtkNew.h>
 
 #include <algorithm>
-#include <atomic>
-#include <fstream>
 #include <random>
 #include <sstream>
 
 #include <Eigen/Geometry>
-#include <unistd.h>
 
 namespace simpli::vtktest {
 
@@ -41,32 +38,6 @@ mli::MLI randomMLI(int L, int H, int W, unsigned seed) {
       v = unit(rng);
   }
   return mli;
-}
-
-TempDir::TempDir() {
-  static std::atomic<int> counter{0};
-  path_ = fs::temp_directory_path() /
-          ("simpli_vtk_mli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-  fs::remove_all(path_);
-  fs::create_directories(path_);
-}
-
-TempDir::~TempDir() {
-  std::error_code ec;
-  fs::remove_all(path_, ec);
-}
-
-std::vector<std::string> listDir(const fs::path& folder) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(folder))
-    names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
-void writeText(const fs::path& file, const std::string& text) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out << text;
 }
 
 bool ErrorRecorder::has(const std::vector<std::string>& parts) const {

@@ -1,6 +1,6 @@
 #pragma once
-// Shared pieces of the VTK tests: synthetic MLIs, a private temporary folder, an ErrorEvent
-// recorder and a run that records an algorithm's errors.
+// Shared pieces of the VTK tests: synthetic MLIs, an ErrorEvent recorder and a run that records
+// an algorithm's errors (temporary folders: tests/support).
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -9,6 +9,7 @@
 #include <vtkCommand.h>
 
 #include "simpli/model/mli/mli.h"
+#include "support/temp_dir.h"
 
 namespace simpli::vtktest {
 
@@ -20,24 +21,9 @@ scene::Camera testCamera(int W, int H);
 /// L layers, back layers farther; random RGBA in [0, 1] and depths in [d(k), 2 d(k)].
 mli::MLI randomMLI(int L, int H, int W, unsigned seed);
 
-/// A fresh empty folder under the system temp folder, removed with its contents at the end.
-class TempDir {
-public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-  fs::path path_;
-};
-
-/// Sorted entry names of `folder` (hidden ones included).
-std::vector<std::string> listDir(const fs::path& folder);
-
-void writeText(const fs::path& file, const std::string& text);
+using test::listDir;
+using test::TempDir;
+using test::writeText;
 
 /// Records the message of every ErrorEvent (and so keeps them off stderr).
 class ErrorRecorder : public vtkCommand {

@@ -15,7 +15,7 @@
 // Comparison: PSNR (peak 1) over the pixels both renderers cover. VTK coverage = pixels that
 // come out the same over a black and a white background; rasterizer coverage = opacity > 0.999.
 // The far layer has alpha 1 everywhere, so the rasterizer's "farthest fragment is opaque" rule
-// (simpli_reference.md §6.7) changes nothing where the far layer is hit, and both renderers
+// (spec §6.7) changes nothing where the far layer is hit, and both renderers
 // composite the same fragments. Fails below 35 dB or when fewer than 70 % of the pixels are
 // compared. Writes both images as PNGs into OUT_DIR.
 #include "vtkMLIReader.h"

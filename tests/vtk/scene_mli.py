@@ -3,7 +3,7 @@ scene read by vtkSIMPLISceneReader (its image and its ground-truth depth map).
 
 The MLI has one opaque layer whose texel (i, j) holds pixel (i, j) of the view, at the pixel's
 depth. Its camera is the view's camera with intrinsics re-expressed for the corner grid
-(texel j on u' = j / (W - 1), simpli_reference.md §1.3): u = (j + 0.5) / W must equal
+(texel j on u' = j / (W - 1), spec §1.3): u = (j + 0.5) / W must equal
 u' = j / (W - 1), so fx' = fx W / (W - 1), cx' = (cx W - 0.5) / (W - 1) (same for y). Rendered
 at the view's own camera, every pixel centre then falls exactly on a vertex.
 """

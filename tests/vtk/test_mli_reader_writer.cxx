@@ -31,31 +31,18 @@
 #include "mli_vtk_test_util.h"
 #include "simpli/model/mli/files.h"
 #include "simpli/model/mli/mesh.h"
+#include "support/mli_compare.h"
 
 namespace simpli::vtktest {
 namespace {
+
+using test::expectSameMLI;
 
 constexpr int kL = 3, kH = 5, kW = 7;
 
 vtkPolyData* layerAt(vtkPartitionedDataSetCollection* c, unsigned int i) {
   vtkPartitionedDataSet* pds = c->GetPartitionedDataSet(i);
   return pds ? vtkPolyData::SafeDownCast(pds->GetPartition(0)) : nullptr;
-}
-
-void expectSameMLI(const mli::MLI& a, const mli::MLI& b) {
-  ASSERT_EQ(a.numLayers(), b.numLayers());
-  EXPECT_EQ(a.camera.R, b.camera.R);
-  EXPECT_EQ(a.camera.t, b.camera.t);
-  EXPECT_EQ(a.camera.fx, b.camera.fx);
-  EXPECT_EQ(a.camera.fy, b.camera.fy);
-  EXPECT_EQ(a.camera.cx, b.camera.cx);
-  EXPECT_EQ(a.camera.cy, b.camera.cy);
-  EXPECT_EQ(a.width(), b.width());
-  EXPECT_EQ(a.height(), b.height());
-  for (int k = 0; k < a.numLayers(); ++k) {
-    EXPECT_EQ(a.layers[k].depth, b.layers[k].depth) << "layer " << k;
-    EXPECT_EQ(a.layers[k].rgba, b.layers[k].rgba) << "layer " << k;
-  }
 }
 
 // Reads `folder` with a fresh reader; fails the test if the read fails.

@@ -1,4 +1,4 @@
-// Generator::forward: input checks and the order of the steps of simpli_reference.md §3.
+// Generator::forward: input checks and the order of the steps of spec §3.
 //
 // Stage hook names (GeneratorOptions::stageHook) and the layouts passed (S surfaces, P planes,
 // V views, Cf feature channels; h0/h1/h2 the level sizes, Hf x Wf the features' size):
@@ -28,10 +28,10 @@
 #include "simpli/model/geometry/planes.h"
 #include "simpli/model/network/surface_ops.h"
 
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/ops_resample.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_resample.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <algorithm>
 #include <cmath>

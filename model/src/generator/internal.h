@@ -1,5 +1,5 @@
 #pragma once
-// The steps of Generator::forward (simpli_reference.md §3), one concept per source file in
+// The steps of Generator::forward (spec §3), one concept per source file in
 // model/src/generator/:
 //  mpi_levels.cpp        features, level-0 MPI, level-1 discrepancy and corrected MPI
 //  planes_to_layers.cpp  planes -> layers (deformer, group opacities, depths, RGBA1)

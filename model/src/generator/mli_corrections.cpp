@@ -1,4 +1,4 @@
-// The MLI corrections (simpli_reference.md §3 steps 6-8, §4.7, §7): the current mesh is
+// The MLI corrections (spec §3 steps 6-8, §4.7, §7): the current mesh is
 // rendered into every source view, the discrepancy [rendered - image | image] is unprojected
 // onto the final surfaces (corner grid, depth D), aggregated over views as weighted mean /
 // variance plus view self-attention, and a per-surface 2-D DoubleConvResnet refines the state.
@@ -7,9 +7,9 @@
 #include "simpli/error.h"
 #include "simpli/model/geometry/layer_unproject.h"
 
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <algorithm>
 

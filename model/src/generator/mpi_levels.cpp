@@ -1,4 +1,4 @@
-// Steps 1-4 of the generator (simpli_reference.md §3): feature extraction, the level-0 MPI
+// Steps 1-4 of the generator (spec §3): feature extraction, the level-0 MPI
 // (3-D aggregation of the plane sweep), the MPI rendered into the sources (level-1
 // discrepancy) and the level-1 corrected MPI.
 #include "generator/internal.h"
@@ -7,10 +7,10 @@
 #include "simpli/model/geometry/plane_sweep.h"
 #include "simpli/model/network/surface_ops.h"
 
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_resample.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_resample.h"
+#include "simpli/ocl/ops_shape.h"
 
 namespace simpli::generator {
 

@@ -1,10 +1,10 @@
-// What the generator's output becomes: a novel view (simpli_reference.md §6.8) or a CPU MLI
+// What the generator's output becomes: a novel view (spec §6.8) or a CPU MLI
 // (mli/mli.h) for export.
 #include "generator/internal.h"
 
 #include "simpli/error.h"
 
-#include <simpli/ocl/ops_elementwise.h>
+#include "simpli/ocl/ops_elementwise.h"
 
 #include <algorithm>
 #include <cmath>

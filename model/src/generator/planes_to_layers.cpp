@@ -1,4 +1,4 @@
-// Step 5 of the generator (simpli_reference.md §3, §4.8, §4.9): the 41 corrected planes are
+// Step 5 of the generator (spec §3, §4.8, §4.9): the 41 corrected planes are
 // pooled into L layers by anchored ray attention, per-layer group opacities give the layer
 // depths (at h1 x w1 for the level-2 discrepancy mesh, and from bicubic-upsampled logits at
 // full resolution for the final, frozen depth), and the first RGBA decoder gives RGBA1.
@@ -9,9 +9,9 @@
 
 #include "simpli/model/network/surface_ops.h"
 
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_resample.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_resample.h"
+#include "simpli/ocl/ops_shape.h"
 
 namespace simpli::generator {
 

@@ -3,7 +3,7 @@
 #include "geometry/sampling.h"
 #include "simpli/error.h"
 
-#include <simpli/ocl/launch.h>
+#include "simpli/ocl/launch.h"
 
 namespace simpli::geometry {
 

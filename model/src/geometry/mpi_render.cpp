@@ -4,9 +4,9 @@
 #include "model_kernels.h"
 #include "simpli/error.h"
 
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/launch.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/launch.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <cmath>
 #include <string>

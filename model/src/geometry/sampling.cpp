@@ -3,8 +3,8 @@
 #include "model_kernels.h"
 #include "simpli/error.h"
 
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/launch.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/launch.h"
 
 #include <cmath>
 #include <string>

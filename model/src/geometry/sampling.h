@@ -5,7 +5,7 @@
 #include "simpli/model/geometry/plane_sweep.h"
 #include "simpli/model/scene/camera.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <string>
 #include <vector>

@@ -1,4 +1,4 @@
-// The reference's MLI export format (simpli_reference.md §10.2; see mli/files.h): 8-bit JPEGs for
+// The reference's MLI export format (spec §10.2; see mli/files.h): 8-bit JPEGs for
 // colour, alpha and per-layer linearly quantised depth.
 #include <algorithm>
 #include <cmath>

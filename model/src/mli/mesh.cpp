@@ -1,4 +1,4 @@
-// Corner-grid meshes of MLI layers (simpli_reference.md §6.6; see mli/mesh.h).
+// Corner-grid meshes of MLI layers (spec §6.6; see mli/mesh.h).
 #include "simpli/model/mli/mesh.h"
 
 #include <limits>

@@ -3,13 +3,13 @@
 
 #include "simpli/error.h"
 
-#include <simpli/ocl/ops_attention.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_encoding.h>
-#include <simpli/ocl/ops_linalg.h>
-#include <simpli/ocl/ops_norm.h>
-#include <simpli/ocl/ops_shape.h>
-#include <simpli/ocl/ops_softmax.h>
+#include "simpli/ocl/ops_attention.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_encoding.h"
+#include "simpli/ocl/ops_linalg.h"
+#include "simpli/ocl/ops_norm.h"
+#include "simpli/ocl/ops_shape.h"
+#include "simpli/ocl/ops_softmax.h"
 
 #include <cmath>
 

@@ -3,9 +3,9 @@
 
 #include "simpli/error.h"
 
-#include <simpli/ocl/ops_pool.h>
-#include <simpli/ocl/ops_resample.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/ops_pool.h"
+#include "simpli/ocl/ops_resample.h"
+#include "simpli/ocl/ops_shape.h"
 
 namespace simpli::network {
 

@@ -3,8 +3,8 @@
 
 #include "simpli/error.h"
 
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_norm.h>
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_norm.h"
 
 namespace simpli::network {
 

@@ -4,10 +4,10 @@
 
 #include "simpli/error.h"
 
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_encoding.h>
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_encoding.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <cmath>
 

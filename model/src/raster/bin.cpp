@@ -5,9 +5,9 @@
 #include "simpli/error.h"
 #include "simpli/model/raster/rasterizer.h"
 
-#include <simpli/ocl/buffer_pool.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/launch.h>
+#include "simpli/ocl/buffer_pool.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/launch.h"
 
 #include <algorithm>
 #include <limits>

@@ -3,9 +3,9 @@
 #include "model_kernels.h"
 #include "simpli/error.h"
 
-#include <simpli/ocl/buffer_pool.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/launch.h>
+#include "simpli/ocl/buffer_pool.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/launch.h"
 
 #include <Eigen/LU>
 

@@ -4,7 +4,7 @@
 #include "simpli/model/raster/rasterizer.h"
 #include "simpli/model/scene/camera.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <cstddef>
 #include <memory>

@@ -5,10 +5,10 @@
 #include "simpli/error.h"
 #include "simpli/model/raster/rasterizer.h"
 
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/buffer_pool.h>
-#include <simpli/ocl/launch.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/buffer_pool.h"
+#include "simpli/ocl/launch.h"
+#include "simpli/ocl/ops_shape.h"
 
 namespace simpli::raster {
 namespace {

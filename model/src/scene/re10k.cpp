@@ -1,4 +1,4 @@
-// RealEstate10K / SWORD camera files (see scene/readers.h and simpli_reference.md §9.1).
+// RealEstate10K / SWORD camera files (see scene/readers.h and spec §9.1).
 #include "scene/text_fields.h"
 #include "simpli/error.h"
 #include "simpli/model/scene/readers.h"

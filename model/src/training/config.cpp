@@ -56,7 +56,7 @@ const std::vector<std::string>& lossTermNames() {
 }
 
 TrainingConfig::TrainingConfig() {
-  // configs/tblock4_train.yaml (simpli_reference.md §8.1, §14 item 2).
+  // configs/tblock4_train.yaml (spec §8.1, §14 item 2).
   lossWeights = {{"l1", 1.0},
                  {"perceptual", 0.0},
                  {"intermediate_loss_0_l1", 1.0},

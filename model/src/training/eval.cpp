@@ -6,8 +6,8 @@
 #include "simpli/model/training/sampler.h"
 #include "simpli/model/training/trainer.h"
 
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/device.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/device.h"
 
 #include <chrono>
 

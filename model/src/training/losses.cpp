@@ -3,10 +3,10 @@
 
 #include "simpli/error.h"
 
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_loss.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_loss.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <cmath>
 #include <limits>

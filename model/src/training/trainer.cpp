@@ -6,9 +6,9 @@
 #include "simpli/model/training/checkpoint.h"
 #include "simpli/model/training/losses.h"
 
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <chrono>
 #include <cmath>

@@ -4,12 +4,12 @@
 #include "simpli/error.h"
 #include "simpli/model/io/safetensors.h"
 
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_conv.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_loss.h>
-#include <simpli/ocl/ops_pool.h>
-#include <simpli/ocl/ops_resample.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_conv.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_loss.h"
+#include "simpli/ocl/ops_pool.h"
+#include "simpli/ocl/ops_resample.h"
 
 #include <algorithm>
 

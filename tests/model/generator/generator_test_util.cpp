@@ -1,30 +1,14 @@
 #include "generator_test_util.h"
 
-#include "golden_util.h"
+#include "support/golden.h"
 
-#include <simpli/model/scene/reference_camera.h>
+#include "simpli/model/scene/reference_camera.h"
 
 #include <Eigen/Geometry>
 
 #include <cmath>
 
 namespace simpli::test {
-
-scene::Camera cameraFrom(const double* e, const double* k, int width, int height) {
-  scene::Camera c;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j)
-      c.R(i, j) = e[4 * i + j];
-    c.t[i] = e[4 * i + 3];
-  }
-  c.fx = k[0];
-  c.cx = k[2];
-  c.fy = k[4];
-  c.cy = k[5];
-  c.width = width;
-  c.height = height;
-  return c;
-}
 
 generator::GeneratorInput goldenInput(ocl::Dtype dtype) {
   const io::SafeTensorsReader& in = goldenFile("inputs");
@@ -34,9 +18,9 @@ generator::GeneratorInput goldenInput(ocl::Dtype dtype) {
   input.images = goldenTensor("inputs", "images", dtype);
   const int H = static_cast<int>(input.images.size(2)), W = static_cast<int>(input.images.size(3));
   for (int v = 0; v < 3; ++v)
-    input.sources.push_back(cameraFrom(&ext.data[12 * v], &intr.data[9 * v], W, H));
-  input.reference = cameraFrom(in.readF64("ref_extrinsics").data.data(),
-                               in.readF64("ref_intrinsics").data.data(), W, H);
+    input.sources.push_back(goldenCamera(&ext.data[12 * v], &intr.data[9 * v], W, H));
+  input.reference = goldenCamera(in.readF64("ref_extrinsics").data.data(),
+                                 in.readF64("ref_intrinsics").data.data(), W, H);
   input.minDepth = 1.0;
   input.maxDepth = 100.0;
   return input;

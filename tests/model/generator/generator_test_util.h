@@ -1,17 +1,14 @@
 #pragma once
 // Shared inputs of the generator tests: the golden inputs and stub renderer
 // (shared/golden/README.md §3, §4), small synthetic forward-facing rigs, and tiny networks.
-#include <simpli/model/generator/generator.h>
-#include <simpli/model/network/network.h>
+#include "simpli/model/generator/generator.h"
+#include "simpli/model/network/network.h"
 
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace simpli::test {
-
-/// A camera from a 3x4 row-major world->camera matrix and a 3x3 row-major relative K.
-scene::Camera cameraFrom(const double* extrinsic, const double* intrinsic, int width, int height);
 
 /// The golden forward pass's input (3 views of 64 x 96, reference camera from the file).
 generator::GeneratorInput goldenInput(ocl::Dtype dtype);

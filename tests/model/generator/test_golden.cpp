@@ -9,12 +9,12 @@
 // (tolerances.json "end_to_end"), rounded up to 1, 2 or 5 x 10^k as in the README's table: an
 // independent float32 implementation has its own rounding of the size measured there.
 #include "generator_test_util.h"
-#include "golden_util.h"
+#include "support/golden.h"
 
-#include <simpli/model/generator/generator.h>
-#include <simpli/model/network/surface_ops.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/model/generator/generator.h"
+#include "simpli/model/network/surface_ops.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 

@@ -15,10 +15,10 @@
 // tolerance 1e-5 x max|grad| at this step.
 #include "generator_test_util.h"
 
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 

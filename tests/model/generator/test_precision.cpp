@@ -9,9 +9,9 @@
 // rounding (~5e-7 grid units) into value differences of ~5e-5, which the view attention and
 // LayerNormTotal amplify. The tiny network uses the same operations with fewer channels.
 #include "generator_test_util.h"
-#include "golden_util.h"
+#include "support/golden.h"
 
-#include <simpli/ocl/autograd.h>
+#include "simpli/ocl/autograd.h"
 
 #include <gtest/gtest.h>
 

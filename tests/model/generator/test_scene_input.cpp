@@ -1,11 +1,11 @@
 // Scene -> generator input: image layout, cameras, reference camera, view selection, depth
 // range, and the errors for bad view lists. Uses the bundled synthetic scene.
-#include "test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/error.h>
-#include <simpli/model/generator/scene_input.h>
-#include <simpli/model/scene/readers.h>
-#include <simpli/model/scene/reference_camera.h>
+#include "simpli/error.h"
+#include "simpli/model/generator/scene_input.h"
+#include "simpli/model/scene/readers.h"
+#include "simpli/model/scene/reference_camera.h"
 
 #include <gtest/gtest.h>
 

@@ -3,11 +3,11 @@
 // (corrections, intermediates, stage timing, injected renderer), bad input, and the outputs'
 // conversions (renderNovelView, toMLI).
 #include "generator_test_util.h"
-#include "test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/geometry/planes.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/model/geometry/planes.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // implementation computes them (world coordinates: back-project, ray-plane intersection,
 // project, grid_sample, composer), independently of the kernels' relative-transform form.
 // Plus random cameras and small helpers shared by the geometry tests.
-#include <simpli/model/scene/camera.h>
+#include "simpli/model/scene/camera.h"
 
 #include <Eigen/Core>
 

@@ -3,9 +3,9 @@
 // opaque plane at (near) infinity rendered into a rotated camera, and the plane sweep itself.
 #include "geometry_reference.h"
 
-#include <simpli/model/geometry/mpi_render.h>
-#include <simpli/model/geometry/plane_sweep.h>
-#include <simpli/ocl/autograd.h>
+#include "simpli/model/geometry/mpi_render.h"
+#include "simpli/model/geometry/plane_sweep.h"
+#include "simpli/ocl/autograd.h"
 
 #include <gtest/gtest.h>
 

@@ -6,13 +6,13 @@
 // Prints times, asserts nothing about them.
 #include "geometry_reference.h"
 
-#include <simpli/model/geometry/layer_unproject.h>
-#include <simpli/model/geometry/mpi_render.h>
-#include <simpli/model/geometry/plane_sweep.h>
-#include <simpli/model/geometry/planes.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/ops_reduce.h>
+#include "simpli/model/geometry/layer_unproject.h"
+#include "simpli/model/geometry/mpi_render.h"
+#include "simpli/model/geometry/plane_sweep.h"
+#include "simpli/model/geometry/planes.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_reduce.h"
 
 #include <gtest/gtest.h>
 

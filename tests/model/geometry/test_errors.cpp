@@ -2,11 +2,11 @@
 // value or shape, never a crash.
 #include "geometry_reference.h"
 
-#include <simpli/error.h>
-#include <simpli/model/geometry/layer_unproject.h>
-#include <simpli/model/geometry/mpi_render.h>
-#include <simpli/model/geometry/plane_sweep.h>
-#include <simpli/model/geometry/planes.h>
+#include "simpli/error.h"
+#include "simpli/model/geometry/layer_unproject.h"
+#include "simpli/model/geometry/mpi_render.h"
+#include "simpli/model/geometry/plane_sweep.h"
+#include "simpli/model/geometry/planes.h"
 
 #include <gtest/gtest.h>
 

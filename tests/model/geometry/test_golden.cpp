@@ -5,14 +5,15 @@
 // measured float32-vs-float64 error of the recorded stage (tolerances.json, README §7), with a
 // floor of 1e-6.
 #include "geometry_reference.h"
+#include "support/golden.h"
 
-#include <simpli/model/geometry/layer_unproject.h>
-#include <simpli/model/geometry/mpi_render.h>
-#include <simpli/model/geometry/plane_sweep.h>
-#include <simpli/model/geometry/planes.h>
-#include <simpli/model/io/safetensors.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_resample.h>
+#include "simpli/model/geometry/layer_unproject.h"
+#include "simpli/model/geometry/mpi_render.h"
+#include "simpli/model/geometry/plane_sweep.h"
+#include "simpli/model/geometry/planes.h"
+#include "simpli/model/io/safetensors.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_resample.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -56,25 +57,11 @@ protected:
     const auto intr = inputs_->readF64("src_intrinsics"); // [3, 3, 3]
     ASSERT_EQ(ext.shape, (std::vector<int64_t>{3, 3, 4}));
     for (int v = 0; v < 3; ++v)
-      views_.push_back(camera(ext.data.data() + 12 * v, intr.data.data() + 9 * v));
-    reference_ = camera(inputs_->readF64("ref_extrinsics").data.data(),
-                        inputs_->readF64("ref_intrinsics").data.data());
+      views_.push_back(test::goldenCamera(ext.data.data() + 12 * v, intr.data.data() + 9 * v));
+    reference_ = test::goldenCamera(inputs_->readF64("ref_extrinsics").data.data(),
+                                    inputs_->readF64("ref_intrinsics").data.data());
     depths_ = inputs_->readF64("plane_depths").data;
     ASSERT_EQ(depths_.size(), 41u);
-  }
-
-  static scene::Camera camera(const double* e, const double* k) {
-    scene::Camera c;
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j)
-        c.R(i, j) = e[4 * i + j];
-      c.t[i] = e[4 * i + 3];
-    }
-    c.fx = k[0];
-    c.cx = k[2];
-    c.fy = k[4];
-    c.cy = k[5];
-    return c;
   }
 
   /// 10 x the recorded float32-vs-float64 error of an end-to-end stage, at least 1e-6.

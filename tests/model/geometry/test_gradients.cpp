@@ -5,13 +5,13 @@
 #include "geometry_reference.h"
 #include "op_harness.h"
 
-#include <simpli/model/geometry/layer_unproject.h>
-#include <simpli/model/geometry/mpi_render.h>
-#include <simpli/model/geometry/plane_sweep.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/model/geometry/layer_unproject.h"
+#include "simpli/model/geometry/mpi_render.h"
+#include "simpli/model/geometry/plane_sweep.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 

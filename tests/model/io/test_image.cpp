@@ -1,9 +1,9 @@
 // simpli::Image reading / writing: value mapping, channel handling, resize, errors.
-#include "scene_fixtures.h"
-#include "test_helpers.h"
+#include "support/expect_error.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/error.h>
-#include <simpli/model/io/image.h>
+#include "simpli/error.h"
+#include "simpli/model/io/image.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>

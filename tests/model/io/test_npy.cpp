@@ -1,8 +1,8 @@
 // .npy reading: versions, orders, dtypes, and every kind of malformed file.
-#include "scene_fixtures.h"
-#include "test_helpers.h"
+#include "support/expect_error.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/model/io/npy.h>
+#include "simpli/model/io/npy.h"
 
 #include <gtest/gtest.h>
 

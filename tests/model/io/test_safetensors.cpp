@@ -1,8 +1,8 @@
 // safetensors: round trip, dtype rules, malformed files, and the golden inputs when present.
-#include "scene_fixtures.h"
-#include "test_helpers.h"
+#include "support/expect_error.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/model/io/safetensors.h>
+#include "simpli/model/io/safetensors.h"
 
 #include <gtest/gtest.h>
 

@@ -1,14 +1,10 @@
 #include "mli_test_util.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <fstream>
 #include <random>
-#include <sstream>
 
 #include <Eigen/Geometry>
-#include <unistd.h>
 
 #include "simpli/error.h"
 
@@ -58,56 +54,6 @@ mli::MLI smoothMLI(int L, int H, int W) {
       }
   }
   return mli;
-}
-
-TempDir::TempDir() {
-  static std::atomic<int> counter{0};
-  std::random_device rd;
-  std::ostringstream name;
-  name << "simpli_mli_test_" << ::getpid() << "_" << counter++ << "_" << std::hex << rd();
-  path_ = fs::temp_directory_path() / name.str();
-  fs::create_directories(path_);
-}
-
-TempDir::~TempDir() {
-  std::error_code ec;
-  fs::remove_all(path_, ec);
-}
-
-std::vector<std::string> listDir(const fs::path& folder) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(folder))
-    names.push_back(e.path().filename());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
-void expectError(const std::function<void()>& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    for (const std::string& part : parts)
-      EXPECT_NE(message.find(part), std::string::npos)
-          << "message \"" << message << "\" lacks \"" << part << "\"";
-    return;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected simpli::Error, got another exception: " << e.what();
-    return;
-  }
-  ADD_FAILURE() << "expected simpli::Error, nothing was thrown";
-}
-
-std::string readText(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
-}
-
-void writeText(const fs::path& file, const std::string& text) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out << text;
 }
 
 } // namespace simpli::test

@@ -1,5 +1,5 @@
 #pragma once
-// Shared helpers for the MLI tests: synthetic MLIs, a private temporary folder, error checks.
+// Synthetic MLIs for the MLI tests (temporary folders, errors: tests/support).
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "simpli/model/mli/mli.h"
+#include "support/expect_error.h"
+#include "support/temp_dir.h"
 
 namespace simpli::test {
 
@@ -21,29 +23,5 @@ mli::MLI randomMLI(int L, int H, int W, unsigned seed, float dmin = 1.0f, float 
 
 /// Smooth colour, alpha and depth (low-frequency sines), what JPEG handles well.
 mli::MLI smoothMLI(int L, int H, int W);
-
-/// A fresh empty folder under the system temp folder, removed with everything in it when the
-/// object dies. Unique per process and object, so parallel ctest runs do not collide.
-class TempDir {
-public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
-private:
-  fs::path path_;
-};
-
-/// Sorted names of the entries of `folder` (hidden ones included).
-std::vector<std::string> listDir(const fs::path& folder);
-
-/// Runs `f`, expects a simpli::Error whose message contains every string in `parts`.
-void expectError(const std::function<void()>& f, const std::vector<std::string>& parts);
-
-std::string readText(const fs::path& file);
-void writeText(const fs::path& file, const std::string& text);
 
 } // namespace simpli::test

@@ -1,4 +1,4 @@
-// The reference JPEG MLI form (simpli_reference.md §10.2): layout, meta.json, 8-bit encodings,
+// The reference JPEG MLI form (spec §10.2): layout, meta.json, 8-bit encodings,
 // JPEG parameters, round-trip accuracy.
 #include <cmath>
 #include <fstream>

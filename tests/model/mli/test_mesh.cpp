@@ -1,4 +1,4 @@
-// Corner-grid meshes (simpli_reference.md §6.6) against analytic cases.
+// Corner-grid meshes (spec §6.6) against analytic cases.
 #include <array>
 #include <cmath>
 

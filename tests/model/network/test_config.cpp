@@ -1,10 +1,10 @@
 // Network configs: the JSON files in model/configs, the reference architectures (parameter
 // counts, state-dict keys and shapes), and errors for bad configs.
-#include "golden_util.h"
+#include "support/golden.h"
 
-#include "../test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/network/network.h>
+#include "simpli/model/network/network.h"
 
 #include <gtest/gtest.h>
 

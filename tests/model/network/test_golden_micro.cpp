@@ -1,14 +1,14 @@
 // The golden micro cases (shared/golden micro.safetensors): single modules of the reference
 // with its random weights, reproduced within 10x the measured float32 error, in float32 and in
 // float64 (whose difference to the float32 golden is the golden's own rounding).
-#include "golden_util.h"
+#include "support/golden.h"
 
-#include <simpli/model/network/attention.h>
-#include <simpli/model/network/feature_extractor.h>
-#include <simpli/model/network/layers.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_norm.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/model/network/attention.h"
+#include "simpli/model/network/feature_extractor.h"
+#include "simpli/model/network/layers.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_norm.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 

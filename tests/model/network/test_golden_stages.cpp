@@ -8,15 +8,15 @@
 // LayerNormTotal spans the whole volume). Its first block is the micro case res3d; the whole
 // 7-block stack is checked through the full level-0 TBlock, whose mean / variance channels come
 // from the geometry's fused plane sweep (Level0TBlock below).
-#include "golden_util.h"
+#include "support/golden.h"
 
-#include <simpli/model/geometry/plane_sweep.h>
-#include <simpli/model/network/network.h>
-#include <simpli/model/network/surface_ops.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_resample.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/model/geometry/plane_sweep.h"
+#include "simpli/model/network/network.h"
+#include "simpli/model/network/surface_ops.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_resample.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 
@@ -29,6 +29,7 @@ namespace {
 using ocl::Dtype;
 using ocl::Tensor;
 using test::expectGoldenClose;
+using test::goldenCamera;
 using test::goldenTolerance;
 
 class GoldenStages : public ::testing::TestWithParam<Dtype> {
@@ -181,20 +182,6 @@ TEST_P(GoldenStages, FinalRgba) {
       ocl::reshape(ocl::indexSelect(stage("final.rgba"), 2, {0, 3}), {2, 4, 64, 96});
   expectGoldenClose("final.rgba.layers_0_3", rgba, golden,
                     goldenTolerance("module_level", "rgba_decoder_lvl4"));
-}
-
-scene::Camera goldenCamera(const double* e, const double* k) {
-  scene::Camera c;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j)
-      c.R(i, j) = e[4 * i + j];
-    c.t[i] = e[4 * i + 3];
-  }
-  c.fx = k[0];
-  c.cx = k[2];
-  c.fy = k[4];
-  c.cy = k[5];
-  return c;
 }
 
 // The whole level-0 aggregation (reference §3 step 2): FE out bicubic to 16 x 24, the fused

@@ -1,14 +1,14 @@
 // Gradients of whole small stacks in float64 against central finite differences: every
 // parameter of the stack and its input are probed.
-#include <simpli/model/geometry/planes.h>
-#include <simpli/model/network/attention.h>
-#include <simpli/model/network/feature_extractor.h>
-#include <simpli/model/network/layers.h>
-#include <simpli/model/network/surface_ops.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/model/geometry/planes.h"
+#include "simpli/model/network/attention.h"
+#include "simpli/model/network/feature_extractor.h"
+#include "simpli/model/network/layers.h"
+#include "simpli/model/network/surface_ops.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Network loading shared by the CLI and the filters: config resolution by name or file,
 // config from weights metadata, weights round trip, and the errors a user meets.
-#include "../test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/error.h>
-#include <simpli/model/network/loader.h>
+#include "simpli/error.h"
+#include "simpli/model/network/loader.h"
 
 #include <gtest/gtest.h>
 

@@ -1,14 +1,14 @@
 // Module behaviour beyond the golden cases: general sizes against plain C++ references, batch
 // and pixel independence, and errors for bad inputs.
-#include "../test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/network/attention.h>
-#include <simpli/model/network/feature_extractor.h>
-#include <simpli/model/network/layers.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/model/network/attention.h"
+#include "simpli/model/network/feature_extractor.h"
+#include "simpli/model/network/layers.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 

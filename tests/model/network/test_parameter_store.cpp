@@ -1,9 +1,9 @@
 // ParameterStore: registration, initialisation, safetensors round trips and load errors.
-#include "../test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/io/safetensors.h>
-#include <simpli/model/network/layers.h>
-#include <simpli/model/network/parameter_store.h>
+#include "simpli/model/io/safetensors.h"
+#include "simpli/model/network/layers.h"
+#include "simpli/model/network/parameter_store.h"
 
 #include <gtest/gtest.h>
 
@@ -20,22 +20,7 @@ using ocl::Dtype;
 using ocl::Tensor;
 using test::expectError;
 
-class TempDir {
-public:
-  TempDir() {
-    path_ =
-        fs::temp_directory_path() /
-        ("simpli_net_store_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-  fs::path path_;
-};
+using test::TempDir;
 
 io::HostTensor<float> host(const std::vector<int64_t>& shape, float start) {
   io::HostTensor<float> t;
@@ -116,8 +101,8 @@ TEST(NetParameterStore, SaveLoadRoundTripInBothPrecisions) {
   TempDir dir;
   ParameterStore a(Dtype::F32, 1);
   fillStore(a);
-  a.save(dir.file("a.safetensors"), {{"config", "test"}});
-  const io::SafeTensorsReader r(dir.file("a.safetensors"));
+  a.save(dir.str("a.safetensors"), {{"config", "test"}});
+  const io::SafeTensorsReader r(dir.str("a.safetensors"));
   EXPECT_EQ(r.metadata().at("config"), "test");
   EXPECT_EQ(r.info("a.conv.weight").dtype, "F32");
 
@@ -125,22 +110,22 @@ TEST(NetParameterStore, SaveLoadRoundTripInBothPrecisions) {
   fillStore(f32);
   fillStore(f64);
   const Tensor handle = f32.get("b.anchor");
-  const LoadReport report = f32.load(dir.file("a.safetensors"));
+  const LoadReport report = f32.load(dir.str("a.safetensors"));
   EXPECT_EQ(report.loaded, 6u);
   EXPECT_TRUE(report.unexpected.empty());
   EXPECT_FALSE(report.strippedModulePrefix);
-  f64.load(dir.file("a.safetensors"));
+  f64.load(dir.str("a.safetensors"));
   for (const std::string& name : a.names()) {
     EXPECT_EQ(f32.get(name).toVector(), a.get(name).toVector()) << name;
     EXPECT_EQ(f64.get(name).toVector(), a.get(name).toVector()) << name; // float widens exactly
   }
   EXPECT_EQ(handle.toVector(), a.get("b.anchor").toVector()); // module handles see the load
 
-  f64.save(dir.file("b.safetensors"));
-  EXPECT_EQ(io::SafeTensorsReader(dir.file("b.safetensors")).info("b.anchor").dtype, "F64");
+  f64.save(dir.str("b.safetensors"));
+  EXPECT_EQ(io::SafeTensorsReader(dir.str("b.safetensors")).info("b.anchor").dtype, "F64");
   ParameterStore back(Dtype::F32, 9);
   fillStore(back);
-  back.load(dir.file("b.safetensors"));
+  back.load(dir.str("b.safetensors"));
   EXPECT_EQ(back.get("a.conv.weight").toVector(), a.get("a.conv.weight").toVector());
 }
 
@@ -155,8 +140,8 @@ TEST(NetParameterStore, ModulePrefixAndUnexpectedKeys) {
   }
   entries.emplace("module.extra.buffer", io::makeEntry(host({2}, 0.0f)));
   entries.emplace("other", io::makeEntry(host({1}, 0.0f)));
-  io::writeSafeTensors(dir.file("m.safetensors"), entries);
-  const LoadReport r = s.load(dir.file("m.safetensors"));
+  io::writeSafeTensors(dir.str("m.safetensors"), entries);
+  const LoadReport r = s.load(dir.str("m.safetensors"));
   EXPECT_TRUE(r.strippedModulePrefix);
   EXPECT_EQ(r.loaded, 6u);
   EXPECT_EQ(r.unexpected, (std::vector<std::string>{"module.extra.buffer", "other"}));
@@ -173,8 +158,8 @@ TEST(NetParameterStore, LoadErrorsNameFileKeyAndShapes) {
     for (const std::string& name : s.names())
       entries.emplace(name, io::makeEntry(host(s.get(name).shape(), 0.5f)));
     mutate(entries);
-    io::writeSafeTensors(dir.file(file), entries);
-    return dir.file(file);
+    io::writeSafeTensors(dir.str(file), entries);
+    return dir.str(file);
   };
   const std::string missing = write("missing.safetensors", [](auto& e) { e.erase("a.norm.beta"); });
   expectError([&] { s.load(missing); }, {missing, "1 of 6", "a.norm.beta", "missing"});
@@ -200,7 +185,7 @@ TEST(NetParameterStore, LoadErrorsNameFileKeyAndShapes) {
     e["a.norm.gamma"] = io::makeEntry(t);
   });
   expectError([&] { s.load(nan); }, {nan, "a.norm.gamma", "non-finite"});
-  expectError([&] { s.load(dir.file("absent.safetensors")); }, {"absent.safetensors"});
+  expectError([&] { s.load(dir.str("absent.safetensors")); }, {"absent.safetensors"});
   // No failed load wrote anything.
   EXPECT_EQ(s.get("a.conv.weight").toVector(), before);
 }

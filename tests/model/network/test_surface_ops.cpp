@@ -1,9 +1,9 @@
 // Parameter-free network steps against plain C++ references and their defining properties.
-#include "../test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/geometry/planes.h>
-#include <simpli/model/network/surface_ops.h>
-#include <simpli/ocl/ops_shape.h>
+#include "simpli/model/geometry/planes.h"
+#include "simpli/model/network/surface_ops.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
 // Render timings of the MLI rasterizer (not a test; prints seconds after a warm-up).
 // Usage: simpli_raster_bench [layers H W Ht Wt views tile]
 // Default: 4 layers of 192 x 256 texels into 8 views of 384 x 512, float32, tile 8.
-#include <simpli/error.h>
-#include <simpli/model/raster/rasterizer.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/device.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
+#include "simpli/error.h"
+#include "simpli/model/raster/rasterizer.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
 
 #include <Eigen/Geometry>
 

@@ -1,6 +1,6 @@
 #include "raster_reference.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

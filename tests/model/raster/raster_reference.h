@@ -3,9 +3,9 @@
 // model/include/simpli/model/rasterizer.h), brute force per triangle and pixel, for the tests.
 // Vertices go through world coordinates with the Camera methods (the device code composes the
 // two cameras into one transform instead).
-#include <simpli/model/raster/rasterizer.h>
-#include <simpli/model/scene/camera.h>
-#include <simpli/ocl/tensor.h>
+#include "simpli/model/raster/rasterizer.h"
+#include "simpli/model/scene/camera.h"
+#include "simpli/ocl/tensor.h"
 
 #include <cstdint>
 #include <vector>

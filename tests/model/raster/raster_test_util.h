@@ -2,8 +2,8 @@
 // Scene builders and guards shared by the rasterizer tests.
 #include "raster_reference.h"
 
-#include <simpli/ocl/buffer_pool.h>
-#include <simpli/ocl/device.h>
+#include "simpli/ocl/buffer_pool.h"
+#include "simpli/ocl/device.h"
 
 namespace simpli::test {
 

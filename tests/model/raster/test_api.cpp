@@ -1,11 +1,11 @@
 // Bad-use errors, the triangle numbering and the MLI bridge of the rasterizer.
 #include "raster_test_util.h"
 
-#include "test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/mli/mesh.h>
-#include <simpli/model/raster/rasterizer.h>
-#include <simpli/model/raster/render_mli.h>
+#include "simpli/model/mli/mesh.h"
+#include "simpli/model/raster/rasterizer.h"
+#include "simpli/model/raster/render_mli.h"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // double reference (raster_reference.h).
 #include "raster_test_util.h"
 
-#include <simpli/model/raster/rasterizer.h>
-#include <simpli/ocl/autograd.h>
+#include "simpli/model/raster/rasterizer.h"
+#include "simpli/ocl/autograd.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

@@ -3,10 +3,10 @@
 // may produce NaN or Inf, in outputs or gradients.
 #include "raster_test_util.h"
 
-#include <simpli/model/raster/rasterizer.h>
-#include <simpli/ocl/autograd.h>
-#include <simpli/ocl/ops_elementwise.h>
-#include <simpli/ocl/ops_reduce.h>
+#include "simpli/model/raster/rasterizer.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
 
 #include <gtest/gtest.h>
 

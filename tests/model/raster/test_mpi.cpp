@@ -4,8 +4,8 @@
 // and from the mesh boundary, the only places where the two representations differ).
 #include "raster_test_util.h"
 
-#include <simpli/model/geometry/mpi_render.h>
-#include <simpli/model/raster/rasterizer.h>
+#include "simpli/model/geometry/mpi_render.h"
+#include "simpli/model/raster/rasterizer.h"
 
 #include <gtest/gtest.h>
 

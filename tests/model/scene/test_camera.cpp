@@ -1,8 +1,9 @@
 // Camera helpers: projection, back-projection, matrices.
-#include "scene_fixtures.h"
-#include "test_helpers.h"
+#include "support/cameras.h"
+#include "support/expect_error.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/model/scene/camera.h>
+#include "simpli/model/scene/camera.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // COLMAP text models: layouts, camera models, bounds from points3D.txt, p10 normalisation,
 // and bad input.
-#include "scene_fixtures.h"
-#include "test_helpers.h"
+#include "support/expect_error.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/model/scene/readers.h>
-#include <simpli/model/scene/scene.h>
+#include "simpli/model/scene/readers.h"
+#include "simpli/model/scene/scene.h"
 
 #include <gtest/gtest.h>
 

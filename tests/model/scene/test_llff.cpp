@@ -1,11 +1,11 @@
 // LLFF scenes: conversion of poses_bounds.npy to OpenCV world->camera cameras, bounds,
 // normalisation, images, and every bad input.
-#include "scene_fixtures.h"
-#include "test_helpers.h"
+#include "support/expect_error.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/model/io/npy.h>
-#include <simpli/model/scene/readers.h>
-#include <simpli/model/scene/scene.h>
+#include "simpli/model/io/npy.h"
+#include "simpli/model/scene/readers.h"
+#include "simpli/model/scene/scene.h"
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
 // LLFF writer (scene/llff_writer.h): the exact inverse of the LLFF reader.
-#include <simpli/model/io/files.h>
-#include <simpli/model/io/npy.h>
-#include <simpli/model/scene/llff_writer.h>
-#include <simpli/model/scene/readers.h>
-#include <simpli/model/scene/scene.h>
+#include "simpli/model/io/files.h"
+#include "simpli/model/io/npy.h"
+#include "simpli/model/scene/llff_writer.h"
+#include "simpli/model/scene/readers.h"
+#include "simpli/model/scene/scene.h"
 
+#include "support/expect_error.h"
 #include "synthetic/synthetic_test_util.h"
-#include "test_helpers.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // Scene normalisation: rules, percentile, invertibility.
-#include "scene_fixtures.h"
-#include "test_helpers.h"
+#include "support/expect_error.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/model/scene/normalisation.h>
+#include "simpli/model/scene/normalisation.h"
 
 #include <gtest/gtest.h>
 

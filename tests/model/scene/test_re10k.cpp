@@ -1,8 +1,8 @@
 // RealEstate10K / SWORD camera files.
-#include "scene_fixtures.h"
-#include "test_helpers.h"
+#include "support/expect_error.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/model/scene/scene.h>
+#include "simpli/model/scene/scene.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
-// Reference camera (simpli_reference.md §6.1): Markley quaternion average + mean centre.
-#include "scene_fixtures.h"
-#include "test_helpers.h"
+// Reference camera (spec §6.1): Markley quaternion average + mean centre.
+#include "support/expect_error.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/model/io/safetensors.h>
-#include <simpli/model/scene/reference_camera.h>
+#include "simpli/model/io/safetensors.h"
+#include "simpli/model/scene/reference_camera.h"
 
 #include <gtest/gtest.h>
 

@@ -1,43 +1,14 @@
 #pragma once
-// Helpers shared by the synthetic-scene tests: a self-deleting temporary folder and flat-colour
-// textures / simple scenes for analytic checks.
-#include <simpli/model/synthetic/scene.h>
+// Helpers shared by the synthetic-scene tests: flat-colour textures and simple scenes for analytic
+// checks (temporary folders: tests/support).
+#include "simpli/model/synthetic/scene.h"
+#include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <string>
 
-#include <unistd.h>
-
 namespace simpli::test {
-
-/// A fresh empty folder under the system temporary directory, removed with its contents.
-class TempDir {
-public:
-  TempDir() {
-    static int counter = 0;
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const std::string name = std::string("simpli_synth_") + (info ? info->name() : "x") + "_" +
-                             std::to_string(::getpid()) + "_" + std::to_string(counter++);
-    path_ = std::filesystem::temp_directory_path() / name;
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-  std::string str(const std::string& child = "") const {
-    return child.empty() ? path_.string() : (path_ / child).string();
-  }
-
-private:
-  std::filesystem::path path_;
-};
 
 /// A texture of one flat colour (no pattern contrast, no detail noise).
 inline synthetic::Texture flatTexture(double r, double g, double b) {

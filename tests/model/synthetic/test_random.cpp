@@ -1,7 +1,7 @@
 // Portable random numbers (synthetic/random.h).
-#include <simpli/model/synthetic/random.h>
+#include "simpli/model/synthetic/random.h"
 
-#include "test_helpers.h"
+#include "support/expect_error.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Exact ray casting: analytic depth, projection, occlusion, anti-aliasing, determinism
 // (synthetic/renderer.h).
-#include <simpli/model/synthetic/renderer.h>
+#include "simpli/model/synthetic/renderer.h"
 
+#include "support/expect_error.h"
 #include "synthetic_test_util.h"
-#include "test_helpers.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
 // Scene generation and camera paths (synthetic/scene_generator.h, camera_path.h).
-#include <simpli/model/scene/scene.h>
-#include <simpli/model/synthetic/camera_path.h>
-#include <simpli/model/synthetic/renderer.h>
-#include <simpli/model/synthetic/scene_writer.h>
+#include "simpli/model/scene/scene.h"
+#include "simpli/model/synthetic/camera_path.h"
+#include "simpli/model/synthetic/renderer.h"
+#include "simpli/model/synthetic/scene_writer.h"
 
+#include "support/expect_error.h"
 #include "synthetic_test_util.h"
-#include "test_helpers.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

@@ -1,12 +1,12 @@
 // Writing synthetic scenes (synthetic/scene_writer.h) and the on-the-fly source
 // (synthetic/procedural_source.h): both must give what readScene reads back.
-#include <simpli/model/scene/llff_writer.h>
-#include <simpli/model/scene/scene.h>
-#include <simpli/model/synthetic/procedural_source.h>
-#include <simpli/model/synthetic/scene_writer.h>
+#include "simpli/model/scene/llff_writer.h"
+#include "simpli/model/scene/scene.h"
+#include "simpli/model/synthetic/procedural_source.h"
+#include "simpli/model/synthetic/scene_writer.h"
 
+#include "support/expect_error.h"
 #include "synthetic_test_util.h"
-#include "test_helpers.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

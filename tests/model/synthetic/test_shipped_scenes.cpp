@@ -1,8 +1,8 @@
 // The synthetic scenes shipped in datasets_small/synthetic: readable, small, and exactly what
 // `simpli make-scene` regenerates from the parameters in their scene.json.
-#include <simpli/model/io/files.h>
-#include <simpli/model/scene/scene.h>
-#include <simpli/model/synthetic/scene_writer.h>
+#include "simpli/model/io/files.h"
+#include "simpli/model/scene/scene.h"
+#include "simpli/model/synthetic/scene_writer.h"
 
 #include "synthetic_test_util.h"
 

@@ -1,8 +1,8 @@
 // Procedural textures and exact ray-primitive intersections (synthetic/texture.h, shapes.h).
-#include <simpli/model/synthetic/shapes.h>
+#include "simpli/model/synthetic/shapes.h"
 
+#include "support/expect_error.h"
 #include "synthetic_test_util.h"
-#include "test_helpers.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 // Checkpoints: round trip of weights, Adam state and random state; a failed write leaves the
 // previous checkpoint as the newest readable one; old checkpoints are pruned.
-#include "test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/network/parameter_store.h>
-#include <simpli/model/training/checkpoint.h>
+#include "simpli/model/network/parameter_store.h"
+#include "simpli/model/training/checkpoint.h"
 
 #include <gtest/gtest.h>
 

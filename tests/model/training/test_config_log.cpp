@@ -1,9 +1,9 @@
 // Training config (defaults, strictness, round trip) and the CSV log (append, resume cut).
-#include "test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/network/loader.h>
-#include <simpli/model/training/config.h>
-#include <simpli/model/training/log.h>
+#include "simpli/model/network/loader.h"
+#include "simpli/model/training/config.h"
+#include "simpli/model/training/log.h"
 
 #include <gtest/gtest.h>
 

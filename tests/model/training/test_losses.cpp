@@ -1,7 +1,7 @@
 // The training losses of §8.1 against plain double references on small random inputs.
-#include "test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/training/losses.h>
+#include "simpli/model/training/losses.h"
 
 #include <gtest/gtest.h>
 

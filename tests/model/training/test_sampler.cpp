@@ -1,9 +1,10 @@
 // Sampler: distinct frames inside the window, V / N ranges, reproducibility, crop intrinsics,
 // MixUp; the random generator's state round trip.
-#include "test_helpers.h"
+#include "support/cameras.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/scene/reference_camera.h>
-#include <simpli/model/training/sampler.h>
+#include "simpli/model/scene/reference_camera.h"
+#include "simpli/model/training/sampler.h"
 
 #include <gtest/gtest.h>
 

@@ -10,12 +10,12 @@
 // set before the device opens: each test runs in its own process under ctest) makes the
 // work-group order fixed and every run bit-identical, which these tests then require exactly.
 // On other devices the same comparison would need a tolerance.
-#include "test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/training/checkpoint.h>
-#include <simpli/model/training/data.h>
-#include <simpli/model/training/eval.h>
-#include <simpli/model/training/trainer.h>
+#include "simpli/model/training/checkpoint.h"
+#include "simpli/model/training/data.h"
+#include "simpli/model/training/eval.h"
+#include "simpli/model/training/trainer.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // VGG-19 loader (torchvision key names, widths read from the file, clear errors) and the
 // perceptual loss against a plain double reference, on a small randomly initialised VGG.
-#include "test_helpers.h"
+#include "support/expect_error.h"
 
-#include <simpli/model/io/safetensors.h>
-#include <simpli/model/training/trainer.h>
-#include <simpli/model/training/vgg.h>
+#include "simpli/model/io/safetensors.h"
+#include "simpli/model/training/trainer.h"
+#include "simpli/model/training/vgg.h"
 
 #include <gtest/gtest.h>
 

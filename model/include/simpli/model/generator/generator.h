@@ -1,7 +1,7 @@
 #pragma once
 // The SIMPLI generator: the forward pass that connects the network's modules (network.h) with
 // the geometry (plane sweep, MPI rendering, layer unprojection, mesh rasterization) as
-// GeneratorSIMPLI.manual_forward does (simpli_reference.md §3, §7). Differentiable: with the
+// GeneratorSIMPLI.manual_forward does (spec §3, §7). Differentiable: with the
 // autograd tape enabled every step is recorded, so a loss on the outputs trains the network.
 //
 // This header is the contract between the generator and its users (training, `simpli infer`,
@@ -11,7 +11,7 @@
 #include "simpli/model/raster/rasterizer.h"
 #include "simpli/model/scene/camera.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <exception>
 #include <functional>

@@ -1,7 +1,7 @@
 #pragma once
 // From a scene read from disk (scene/readers.h) to the generator's input: the chosen source
 // views' images as one [V, 3, H, W] tensor, their cameras, and the virtual reference camera
-// (the pose average of the sources, simpli_reference.md §6.1) at the sources' size.
+// (the pose average of the sources, spec §6.1) at the sources' size.
 #include "simpli/model/generator/generator.h"
 #include "simpli/model/scene/scene.h"
 

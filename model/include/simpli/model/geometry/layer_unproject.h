@@ -1,5 +1,5 @@
 #pragma once
-// Unprojection onto deformable layers (simpli_reference.md §6.5): texel (i, j) of layer k lives
+// Unprojection onto deformable layers (spec §6.5): texel (i, j) of layer k lives
 // on the reference ray through the corner-grid coordinate (u, v) = (j / (W - 1), i / (H - 1))
 // at reference-camera z = depth[k, i, j]; it is projected into each source view and gathered
 // exactly as in the plane sweep (plane_sweep.h: sign-preserving |z| >= 1e-6 clamp, bilinear
@@ -11,7 +11,7 @@
 #include "simpli/model/geometry/plane_sweep.h"
 #include "simpli/model/scene/camera.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <vector>
 

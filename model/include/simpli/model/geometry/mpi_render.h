@@ -1,5 +1,5 @@
 #pragma once
-// MPI rendering into other cameras (simpli_reference.md §6.4; the reference's
+// MPI rendering into other cameras (spec §6.4; the reference's
 // SurfacesMPI.look_at + ComposerStereoMagnification). For every target pixel (centre grid) the
 // unit ray r from the target centre C_c meets plane p {X : n.(X - C_ref) = d_p} at
 // tau = (d_p + n.(C_ref - C_c)) / (n.r + 1e-7); the hit is projected into the reference camera
@@ -11,7 +11,7 @@
 // opacity = 1 - prod_q (1 - a_q + 1e-6).
 #include "simpli/model/scene/camera.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <vector>
 

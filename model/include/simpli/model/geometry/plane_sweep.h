@@ -1,5 +1,5 @@
 #pragma once
-// Plane sweep ("unprojection onto planes", simpli_reference.md §6.3): the reference pixels
+// Plane sweep ("unprojection onto planes", spec §6.3): the reference pixels
 // (centre grid h x w) of every plane p are placed at depth d_p along their reference rays (the
 // reference's ray-plane intersection, tau = d_p / (n.r + 1e-7)), projected into each source
 // view (z pushed away from 0 keeping its sign, |z| >= 1e-6; points behind a view are not
@@ -11,7 +11,7 @@
 // intrinsics (scene/camera.h); their image sizes are ignored.
 #include "simpli/model/scene/camera.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <vector>
 

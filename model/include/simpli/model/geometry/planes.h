@@ -1,5 +1,5 @@
 #pragma once
-// The fronto-parallel planes of SIMPLI's MPIs (simpli_reference.md §3 step 2, §6.2).
+// The fronto-parallel planes of SIMPLI's MPIs (spec §3 step 2, §6.2).
 #include <vector>
 
 namespace simpli::geometry {

@@ -1,5 +1,5 @@
 #pragma once
-// RGB images as the network sees them (simpli_reference.md §1.1): float32, planar CHW with
+// RGB images as the network sees them (spec §1.1): float32, planar CHW with
 // 3 channels (R, G, B), values in [-1, 1].
 //
 // Reading (readImage) uses OpenCV with IMREAD_UNCHANGED | IMREAD_IGNORE_ORIENTATION: the pixel

@@ -1,7 +1,7 @@
 #pragma once
 // MLI files. An MLI is a folder; two forms exist and readMLI tells them apart by meta.json:
 //
-// Jpeg (the reference / project-page format, simpli_reference.md §10.2; XX = 00, 01, ...,
+// Jpeg (the reference / project-page format, spec §10.2; XX = 00, 01, ...,
 //   00 = farthest layer):
 //   layer_XX.jpg        RGB trunc(255 clip(rgb, 0, 1)), quality 75, 4:2:0, optimised Huffman
 //   layer_alpha_XX.jpg  trunc(255 alpha) in three identical channels, quality 75, 4:2:0

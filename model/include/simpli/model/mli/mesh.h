@@ -1,5 +1,5 @@
 #pragma once
-// Triangle meshes of an MLI (simpli_reference.md §6.6, §10.3): one vertex per texel, on the
+// Triangle meshes of an MLI (spec §6.6, §10.3): one vertex per texel, on the
 // corner grid u = j/(W-1), v = i/(H-1), back-projected at the texel depth through the reference
 // camera into world coordinates; two triangles per texel quad, (b, b+W, b+W+1) and
 // (b, b+W+1, b+1) with b = i*W + j, so the diagonal joins top-left and bottom-right.

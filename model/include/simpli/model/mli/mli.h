@@ -1,5 +1,5 @@
 #pragma once
-// Multi-layer image (MLI): SIMPLI's output representation (simpli_reference.md §6.6, §10).
+// Multi-layer image (MLI): SIMPLI's output representation (spec §6.6, §10).
 // L layers, each a depth map and a straight-alpha RGBA texture of the same size H x W, plus the
 // reference camera they were built in. Layer 0 is the FARTHEST layer (§12 item 1): the index
 // order is back to front, as in the reference implementation and its exported files.

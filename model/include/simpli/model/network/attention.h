@@ -1,8 +1,8 @@
 #pragma once
-// Attention modules (simpli_reference.md §4.6 - §4.8).
+// Attention modules (spec §4.6 - §4.8).
 #include "simpli/model/network/parameter_store.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <string>
 

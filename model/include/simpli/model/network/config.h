@@ -1,7 +1,7 @@
 #pragma once
 // The architecture of a SIMPLI network, read from JSON (model/configs/*.json). The configs
 // "official-4l" and "official-8l" reproduce the reference's tblock4.yaml / tblock8.yaml
-// exactly (simpli_reference.md §2, §4, §5: 1,879,343 and 1,879,362 parameters, identical
+// exactly (spec §2, §4, §5: 1,879,343 and 1,879,362 parameters, identical
 // state-dict keys and shapes); smaller configs trade quality for CPU training speed.
 //
 // JSON layout (every key is required unless marked optional; unknown keys are errors, so a

@@ -1,11 +1,11 @@
 #pragma once
-// SuperPointsFeatExtractor (`features_extractor`, simpli_reference.md §4.2): a SuperPoint-like
+// SuperPointsFeatExtractor (`features_extractor`, spec §4.2): a SuperPoint-like
 // encoder with LayerNormTotal + ELU after every convolution (zero padding), whose multi-scale
 // maps are merged at half resolution; the output appends the 2x2-box-downsampled input image.
 #include "simpli/model/network/config.h"
 #include "simpli/model/network/layers.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 namespace simpli::network {
 

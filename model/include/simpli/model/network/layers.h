@@ -1,5 +1,5 @@
 #pragma once
-// The reference's basic layers (simpli_reference.md §4.1, §4.3, §4.4). Every module registers
+// The reference's basic layers (spec §4.1, §4.3, §4.4). Every module registers
 // its parameters in a ParameterStore under the reference's state-dict names and keeps handles
 // to them; forward() runs in the store's dtype and records on the autograd tape.
 //
@@ -8,8 +8,8 @@
 #include "simpli/model/network/config.h"
 #include "simpli/model/network/parameter_store.h"
 
-#include <simpli/ocl/ops_conv.h>
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/ops_conv.h"
+#include "simpli/ocl/tensor.h"
 
 #include <string>
 #include <vector>

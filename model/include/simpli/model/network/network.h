@@ -1,6 +1,6 @@
 #pragma once
 // All modules of a SIMPLI network, built from a NetworkConfig into one ParameterStore with the
-// reference's state-dict names (simpli_reference.md §2, §5). This is the parameter side of the
+// reference's state-dict names (spec §2, §5). This is the parameter side of the
 // generator: the geometric steps (plane sweep, MPI rendering, mesh rendering) that connect the
 // modules live in model/geometry and the generator.
 #include "simpli/model/network/attention.h"

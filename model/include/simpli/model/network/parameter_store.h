@@ -1,10 +1,10 @@
 #pragma once
 // The named parameters of a SIMPLI network. Names are the reference implementation's
-// state-dict keys (simpli_reference.md §5), e.g. "features_extractor.conv1a.conv.weight", so a
+// state-dict keys (spec §5), e.g. "features_extractor.conv1a.conv.weight", so a
 // converted official checkpoint loads by name. Every parameter is a leaf tensor that requires
 // gradients; modules keep handles to these tensors, and loading writes into them in place, so
 // the handles stay valid.
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <cstdint>
 #include <map>

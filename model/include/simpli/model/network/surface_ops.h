@@ -1,7 +1,7 @@
 #pragma once
-// Parameter-free steps of the SIMPLI network between its modules (simpli_reference.md §3, §4.5,
+// Parameter-free steps of the SIMPLI network between its modules (spec §3, §4.5,
 // §4.9). All are differentiable and run in the dtype of their input.
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <vector>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Differentiable OpenCL rasterizer for MLI layer meshes (simpli_reference.md §6.6-§6.8, §10.3,
+// Differentiable OpenCL rasterizer for MLI layer meshes (spec §6.6-§6.8, §10.3,
 // §12 item 14): L layers on an H x W corner grid in the reference camera, rendered into any
 // pinhole target camera at any resolution, with per-pixel depth-sorted fragments of all layers
 // (a k-buffer, equivalent to the reference's 16-pass depth peeling) and the reference's
@@ -72,7 +72,7 @@
 // triangle ranges merged into the same k-buffer. Target sizes up to 2^20 pixels per side.
 #include "simpli/model/scene/camera.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <array>
 #include <cstdint>

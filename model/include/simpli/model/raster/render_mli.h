@@ -3,7 +3,7 @@
 #include "simpli/model/mli/mli.h"
 #include "simpli/model/raster/rasterizer.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 namespace simpli::raster {
 

@@ -1,5 +1,5 @@
 #pragma once
-// Pinhole camera in the reference implementation's conventions (simpli_reference.md §1.2):
+// Pinhole camera in the reference implementation's conventions (spec §1.2):
 // world->camera extrinsics Xc = R Xw + t, OpenCV axes (+x right, +y down, +z forward),
 // intrinsics relative to the image size (u in [0,1] spans the image from the left edge of the
 // first pixel to the right edge of the last), depth = camera-space z.

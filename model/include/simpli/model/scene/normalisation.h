@@ -4,7 +4,7 @@
 // intrinsics are scale-free and stay as they are.
 //
 // Why: the reference network always places its planes at depths 1..100 (disparity-uniform,
-// simpli_reference.md §6.2, §9.3) and never adapts them to a scene. Instead its datasets divide
+// spec §6.2, §9.3) and never adapts them to a scene. Instead its datasets divide
 // translations by p10 / 1.25, where p10 is the 10th percentile of the SfM point depths over all
 // views (§9.2), so that the near part of every scene lands just beyond the nearest plane.
 //

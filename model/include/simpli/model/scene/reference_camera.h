@@ -1,5 +1,5 @@
 #pragma once
-// The reference camera in which SIMPLI builds its planes and layers (simpli_reference.md §6.1):
+// The reference camera in which SIMPLI builds its planes and layers (spec §6.1):
 // rotation = average of the source world->camera rotations by Markley's method, centre = mean
 // of the source camera centres, intrinsics and image size of source view 0.
 #include "simpli/model/scene/camera.h"

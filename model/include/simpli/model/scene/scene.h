@@ -1,7 +1,7 @@
 #pragma once
 // A multi-view scene as every reader delivers it: per view the image file, the loaded image
 // (simpli::Image, [-1,1] CHW) and its Camera, plus near/far bounds, the detected format and the
-// normalisation that was applied (simpli_reference.md §1.2, §9).
+// normalisation that was applied (spec §1.2, §9).
 //
 // Formats (detected from the folder contents, see detectSceneFormat):
 //  * LLFF: <root>/poses_bounds.npy + <root>/images/ (sorted png/jpg/jpeg);
@@ -33,7 +33,7 @@ SceneFormat parseSceneFormat(const std::string& name);
 /// Bounds used when a format provides none (RealEstate10K; COLMAP without points3D.txt) and
 /// none are given explicitly: the reference network's fixed plane range 1..100, i.e. the scene
 /// is assumed to be scaled for the network already, as the reference's validation data are
-/// (simpli_reference.md §9.3, §9.5).
+/// (spec §9.3, §9.5).
 constexpr double kDefaultNear = 1.0;
 constexpr double kDefaultFar = 100.0;
 

@@ -1,7 +1,7 @@
 #pragma once
 // Camera trajectories for novel-view videos around a reference camera, like LLFF's spiral
 // renders and the SIMPLI paper's user-study paths. Everything is expressed in the reference
-// camera's frame (OpenCV axes: x right, y down, z forward; simpli_reference.md §1.2):
+// camera's frame (OpenCV axes: x right, y down, z forward; spec §1.2):
 //
 //  * Spiral (LLFF's render_path_spiral): for s = i / N, theta = 2 pi turns s, the centre is
 //    C_ref + R_ref^T (rx cos theta, -ry sin theta, -rz sin(theta zRate)) — with the defaults

@@ -2,7 +2,7 @@
 // Exact CPU ray casting of a synthetic scene.
 //
 // Pixel (x, y) covers relative image coordinates [x/W, (x+1)/W] x [y/H, (y+1)/H]; its centre
-// is ((x + 0.5)/W, (y + 0.5)/H) (the reference's centre grid, simpli_reference.md §1.3).
+// is ((x + 0.5)/W, (y + 0.5)/H) (the reference's centre grid, spec §1.3).
 //  * Depth: camera-space z of the nearest surface on the ray through the pixel centre — exact
 //    up to double rounding (stored as float); 0 where the ray hits nothing.
 //  * Colour: mean of antialias x antialias stratified samples with deterministic jitter

@@ -1,5 +1,5 @@
 #pragma once
-// An exponential moving average of the network's parameters (simpli_reference.md §8.2: the
+// An exponential moving average of the network's parameters (spec §8.2: the
 // reference trainer keeps an EMA copy of the generator, decay_rate 0.9 per iteration, saved
 // beside the plain weights; the released checkpoint is the plain generator). After each
 // optimiser step: average = decay * average + (1 - decay) * parameter, in float64 on the device
@@ -8,7 +8,7 @@
 #include "simpli/model/io/safetensors.h"
 #include "simpli/model/network/parameter_store.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <map>
 #include <string>

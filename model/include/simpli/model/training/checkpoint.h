@@ -20,7 +20,7 @@
 #include "simpli/model/training/config.h"
 #include "simpli/model/training/random.h"
 
-#include <simpli/ocl/optim.h>
+#include "simpli/ocl/optim.h"
 
 #include <cstdint>
 #include <map>

@@ -1,5 +1,5 @@
 #pragma once
-// A training run's settings, read from JSON. Defaults follow the reference (simpli_reference.md
+// A training run's settings, read from JSON. Defaults follow the reference (the method spec
 // §8): Adam lr 3e-4, betas 0.9 / 0.999, eps 1e-8, ExponentialLR gamma 0.999994 per step, global
 // gradient-norm clip 20, and the loss weights of configs/tblock4_train.yaml (l1 1, perceptual
 // 0, the four intermediate L1 losses 1 each, smooth_layers 0.01). Sampling (§8.3) is adapted
@@ -29,7 +29,7 @@
 // }
 #include "simpli/model/network/config.h"
 
-#include <simpli/ocl/program_cache.h>
+#include "simpli/ocl/program_cache.h"
 
 #include <cstdint>
 #include <map>

@@ -1,5 +1,5 @@
 #pragma once
-// The training losses of the reference (simpli_reference.md §8.1), by key name:
+// The training losses of the reference (spec §8.1), by key name:
 //  l1                     masked L1 on the novel views, mask = rendered opacity (ops_loss.h)
 //  perceptual             VGG-19 loss (training/vgg.h), same mask; only with a VGG weights file
 //  intermediate_loss_0_l1 mean L1: level-1 MPI render (channels 9-11, H/2) vs the clean sources
@@ -12,7 +12,7 @@
 #include "simpli/model/training/config.h"
 #include "simpli/model/training/vgg.h"
 
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <string>
 #include <utility>

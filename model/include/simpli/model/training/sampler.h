@@ -1,5 +1,5 @@
 #pragma once
-// Per-sample drawing of training views (simpli_reference.md §8.3, adapted to small scenes):
+// Per-sample drawing of training views (spec §8.3, adapted to small scenes):
 // pick a scene, V in [min_views, max_views] clipped so that at least one target remains, N =
 // min(novel_views, frames - V) targets, a window of consecutive frames (sampling.window frames,
 // widened to V + N, clipped to the scene; 0 = whole scene) at a random start, then V + N

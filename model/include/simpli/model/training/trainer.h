@@ -1,5 +1,5 @@
 #pragma once
-// The training loop (simpli_reference.md §8.2): per step one sample (training/sampler.h), the
+// The training loop (spec §8.2): per step one sample (training/sampler.h), the
 // generator's forward pass with the intermediate source renders, the novel views rendered with
 // the final layers, the losses (training/losses.h), backward, global gradient-norm clipping,
 // Adam with lr0 * gamma^step, the weights' moving average when ema_decay > 0
@@ -21,7 +21,7 @@
 #include "simpli/model/training/sampler.h"
 #include "simpli/model/training/vgg.h"
 
-#include <simpli/ocl/optim.h>
+#include "simpli/ocl/optim.h"
 
 #include <functional>
 #include <memory>

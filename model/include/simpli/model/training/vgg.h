@@ -1,5 +1,5 @@
 #pragma once
-// The perceptual loss of the reference (simpli_reference.md §8.1): torchvision's VGG-19
+// The perceptual loss of the reference (spec §8.1): torchvision's VGG-19
 // `features` without batch norm, every max-pool replaced by a 2x2 average pool, input mapped
 // from [-1, 1] with mean 2 mu - 1 and std 2 sigma (mu, sigma = ImageNet statistics), features
 // taken after relu1_2, relu2_2, relu3_4, relu4_4, relu5_4 (the outputs of features[:k] for
@@ -11,7 +11,7 @@
 // F32 or F64; other keys (e.g. the classifier) are ignored. Channel widths are read from the
 // file (3 -> 64 -> ... -> 512 for the real network; smaller widths are accepted, for tests), but
 // they must chain: every conv is 3x3 and takes the previous conv's output channels.
-#include <simpli/ocl/tensor.h>
+#include "simpli/ocl/tensor.h"
 
 #include <array>
 #include <string>

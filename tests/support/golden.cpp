@@ -1,6 +1,6 @@
-#include "golden_util.h"
+#include "support/golden.h"
 
-#include <simpli/error.h>
+#include "simpli/error.h"
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +14,22 @@
 
 namespace simpli::test {
 
+scene::Camera goldenCamera(const double* e, const double* k, int width, int height) {
+  scene::Camera c;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j)
+      c.R(i, j) = e[4 * i + j];
+    c.t[i] = e[4 * i + 3];
+  }
+  c.fx = k[0];
+  c.cx = k[2];
+  c.fy = k[4];
+  c.cy = k[5];
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
 std::string goldenDir() {
   return SIMPLI_GOLDEN_DIR;
 }
@@ -26,19 +42,19 @@ bool goldenAvailable() {
   return true;
 }
 
-const SafeTensorsReader& goldenFile(const std::string& name) {
-  static std::map<std::string, std::unique_ptr<SafeTensorsReader>> readers;
+const io::SafeTensorsReader& goldenFile(const std::string& name) {
+  static std::map<std::string, std::unique_ptr<io::SafeTensorsReader>> readers;
   auto it = readers.find(name);
   if (it == readers.end())
     it = readers
-             .emplace(name, std::make_unique<SafeTensorsReader>(goldenDir() + "/" + name +
-                                                                ".safetensors"))
+             .emplace(name, std::make_unique<io::SafeTensorsReader>(goldenDir() + "/" + name +
+                                                                    ".safetensors"))
              .first;
   return *it->second;
 }
 
 ocl::Tensor goldenTensor(const std::string& file, const std::string& key, ocl::Dtype dtype) {
-  const HostTensor<double> t = goldenFile(file).readF64(key);
+  const io::HostTensor<double> t = goldenFile(file).readF64(key);
   return ocl::Tensor::fromHost(t.data, t.shape, dtype);
 }
 

@@ -1,35 +1,18 @@
-#include "scene_fixtures.h"
+#include "support/scene_fixtures.h"
 
-#include <simpli/model/npy.h>
+#include "simpli/model/io/npy.h"
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include <atomic>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
-#include <unistd.h>
-
 namespace fs = std::filesystem;
 
 namespace simpli::test {
-
-TempDir::TempDir() {
-  static std::atomic<int> counter{0};
-  path_ = fs::temp_directory_path() /
-          ("simpli_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-  fs::remove_all(path_);
-  fs::create_directories(path_);
-}
-
-TempDir::~TempDir() {
-  std::error_code ec;
-  fs::remove_all(path_, ec);
-}
 
 void writePatternImage(const std::string& path, int width, int height, int seed, int depth,
                        int channels) {
@@ -54,10 +37,10 @@ Eigen::Matrix3d rotation(const Eigen::Vector3d& axis, double angle) {
   return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
 }
 
-std::vector<Camera> makeRig(int n, int width, int height) {
-  std::vector<Camera> cams;
+std::vector<scene::Camera> makeRig(int n, int width, int height) {
+  std::vector<scene::Camera> cams;
   for (int i = 0; i < n; ++i) {
-    Camera c;
+    scene::Camera c;
     const double a = 0.03 * (i - 0.5 * (n - 1));
     c.R = rotation(Eigen::Vector3d(0.2 + 0.1 * i, 1.0, 0.1 * i), a);
     const Eigen::Vector3d centre(0.1 * i - 0.1, 0.02 * i * i - 0.03, 0.01 * i);
@@ -84,7 +67,7 @@ std::vector<Eigen::Vector3d> makePoints(int n) {
   return pts;
 }
 
-std::vector<double> llffRow(const Camera& c, double near, double far) {
+std::vector<double> llffRow(const scene::Camera& c, double near, double far) {
   const Eigen::Matrix3d c2w = c.R.transpose(); // columns: right, down, forward
   const Eigen::Vector3d C = c.centre();
   Eigen::Matrix<double, 3, 5> m;
@@ -102,7 +85,7 @@ std::vector<double> llffRow(const Camera& c, double near, double far) {
   return row;
 }
 
-void writeLlffScene(const std::string& dir, const std::vector<Camera>& cameras, double near,
+void writeLlffScene(const std::string& dir, const std::vector<scene::Camera>& cameras, double near,
                     double far) {
   fs::create_directories(fs::path(dir) / "images");
   std::vector<double> data;
@@ -114,10 +97,10 @@ void writeLlffScene(const std::string& dir, const std::vector<Camera>& cameras, 
     writePatternImage((fs::path(dir) / "images" / name.str()).string(), cameras[i].width,
                       cameras[i].height, int(i));
   }
-  writeNpy((fs::path(dir) / "poses_bounds.npy").string(), data, {cameras.size(), 17});
+  io::writeNpy((fs::path(dir) / "poses_bounds.npy").string(), data, {cameras.size(), 17});
 }
 
-void writeColmapScene(const std::string& dir, const std::vector<Camera>& cameras,
+void writeColmapScene(const std::string& dir, const std::vector<scene::Camera>& cameras,
                       const std::vector<Eigen::Vector3d>& points, const std::string& modelSubdir) {
   const fs::path model = modelSubdir.empty() ? fs::path(dir) : fs::path(dir) / modelSubdir;
   fs::create_directories(model);
@@ -127,7 +110,7 @@ void writeColmapScene(const std::string& dir, const std::vector<Camera>& cameras
   imgs << std::setprecision(17) << "# Image list with two lines of data per image:\n";
   // Written in reverse name order: the reader sorts by name.
   for (size_t k = cameras.size(); k-- > 0;) {
-    const Camera& c = cameras[k];
+    const scene::Camera& c = cameras[k];
     cams << k + 1 << " PINHOLE " << c.width << ' ' << c.height << ' ' << c.fx * c.width << ' '
          << c.fy * c.height << ' ' << c.cx * c.width << ' ' << c.cy * c.height << '\n';
     const Eigen::Quaterniond q(c.R);
@@ -149,7 +132,7 @@ void writeColmapScene(const std::string& dir, const std::vector<Camera>& cameras
   }
 }
 
-void writeRealEstateScene(const std::string& dir, const std::vector<Camera>& cameras,
+void writeRealEstateScene(const std::string& dir, const std::vector<scene::Camera>& cameras,
                           const std::string& fileName, const std::string& imagesSubdir) {
   fs::create_directories(dir);
   const fs::path folder = fs::path(dir);
@@ -157,7 +140,7 @@ void writeRealEstateScene(const std::string& dir, const std::vector<Camera>& cam
   std::ostringstream os;
   os << std::setprecision(17) << "https://www.youtube.com/watch?v=test\n";
   for (size_t i = 0; i < cameras.size(); ++i) {
-    const Camera& c = cameras[i];
+    const scene::Camera& c = cameras[i];
     const long long id = 1000 * (long long)(i + 1);
     os << id << ' ' << c.fx << ' ' << c.fy << ' ' << c.cx << ' ' << c.cy << " 0 0";
     for (int r = 0; r < 3; ++r)
@@ -167,20 +150,6 @@ void writeRealEstateScene(const std::string& dir, const std::vector<Camera>& cam
                       c.height, int(i));
   }
   writeText((folder / file).string(), os.str());
-}
-
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
-}
-
-void writeText(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  if (!out)
-    throw std::runtime_error("test fixture: cannot write " + path);
 }
 
 } // namespace simpli::test

@@ -1,8 +1,11 @@
 #pragma once
-// Access to the golden conformance tensors (SIMPLI_GOLDEN_DIR, see shared/golden/README.md) and
-// the comparison metric they were measured with: rel = max|x - ref| / max|ref| per tensor.
-#include <simpli/model/safetensors.h>
-#include <simpli/ocl/tensor.h>
+// Access to the golden conformance tensors (SIMPLI_GOLDEN_DIR, default ../shared/golden outside
+// the repository: tensors of the reference implementation with random weights, see its
+// README.md), the conversion of their cameras, and the comparison metric they were measured
+// with: rel = max|x - ref| / max|ref| per tensor.
+#include "simpli/model/io/safetensors.h"
+#include "simpli/model/scene/camera.h"
+#include "simpli/ocl/tensor.h"
 
 #include <gtest/gtest.h>
 
@@ -22,8 +25,14 @@ bool goldenAvailable();
       GTEST_SKIP() << "golden data not found in " << ::simpli::test::goldenDir();                  \
   } while (0)
 
+/// A camera in the golden files' layout: `extrinsics` a row-major [3, 4] world-to-camera
+/// [R | t], `intrinsics` a row-major [3, 3] K relative to the image size (fx, cx / fy, cy at
+/// 0, 2 / 4, 5); width x height as given (0 x 0: unset, for geometry that ignores them).
+scene::Camera goldenCamera(const double* extrinsics, const double* intrinsics, int width = 0,
+                           int height = 0);
+
 /// Readers of the golden files (opened once).
-const SafeTensorsReader& goldenFile(const std::string& name); ///< "micro", "stages", ...
+const io::SafeTensorsReader& goldenFile(const std::string& name); ///< "micro", "stages", ...
 
 /// A golden tensor on the device in `dtype` (float32 values widened exactly for F64).
 ocl::Tensor goldenTensor(const std::string& file, const std::string& key, ocl::Dtype dtype);

@@ -1,11 +1,17 @@
-// Device selection shared by the filters (see SIMPLIDevice.h).
-#include "SIMPLIDevice.h"
+// The shared part of every SIMPLI filter's request (see SIMPLIFilter.h).
+#include "SIMPLIFilter.h"
 
+#include <vtkAlgorithm.h>
+#include <vtkSetGet.h>
+
+#include "simpli/error.h"
 #include "simpli/ocl/device.h"
 
+#include <algorithm>
+#include <exception>
 #include <map>
 
-namespace simpli::vtkdevice {
+namespace simpli::vtkfilter {
 
 namespace {
 
@@ -16,6 +22,31 @@ std::map<int, std::function<void()>>& users() {
 }
 
 } // namespace
+
+bool Progress::operator()(double f) const {
+  algorithm_->UpdateProgress(begin_ + std::clamp(f, 0.0, 1.0) * (end_ - begin_));
+  return !aborted();
+}
+
+bool Progress::aborted() const {
+  return algorithm_->GetAbortExecute() != 0;
+}
+
+int runRequest(vtkAlgorithm* algorithm, const std::string& what,
+               const std::function<void(const Progress&)>& body,
+               const std::function<void()>& onFailure) {
+  try {
+    body(Progress(algorithm));
+    return 1;
+  } catch (const simpli::Error& e) {
+    vtkErrorWithObjectMacro(algorithm, << what << ": " << e.what());
+  } catch (const std::exception& e) {
+    vtkErrorWithObjectMacro(algorithm, << what << ": unexpected failure: " << e.what());
+  }
+  if (onFailure)
+    onFailure();
+  return 0;
+}
 
 void selectDevice(const std::string& selector, const std::string& property) {
   if (selector.empty())
@@ -44,4 +75,4 @@ void unregisterDeviceUser(int handle) {
   users().erase(handle);
 }
 
-} // namespace simpli::vtkdevice
+} // namespace simpli::vtkfilter
