@@ -2,17 +2,23 @@
 // paper's protocol (central 90 % crop), mean +- std over R repeated samples, next to the
 // nearest-source-view baseline on the same samples. Several networks are scored on the same
 // samples, with each one's time to build the surfaces and its paired difference to the first.
+// `--protocol rff` is the paper's Real Forward-Facing protocol; `--out DIR` keeps the evidence
+// (views.csv and one comparison picture per view of the first sample).
 #include "commands.h"
 #include "progress_bar.h"
 
 #include <CLI/CLI.hpp>
 #include "simpli/error.h"
+#include "simpli/model/io/files.h"
+#include "simpli/model/metrics/comparison_grid.h"
 #include "simpli/model/network/loader.h"
 #include "simpli/model/training/config.h"
 #include "simpli/model/training/eval.h"
 #include "simpli/ocl/device.h"
 
 #include <cstdio>
+#include <filesystem>
+#include <sstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,12 +30,84 @@ namespace {
 
 struct EvalCliOptions {
   std::vector<std::string> weights;
-  std::string data, config, size, device, dtype = "f32";
-  int repeats = 1, views = 4, novel = 4, window = 0, scenes = 1, corrections = -1;
+  std::string data, config, size, device, dtype = "f32", protocol = "none", out;
+  int repeats = 1, views = 4, novel = 4, window = 0, scenes = 1, corrections = -1, factor = 0;
   int64_t seed = 0;
+  // Which of the protocol's settings the user gave explicitly (those win over the protocol).
+  bool givenSize = false, givenViews = false, givenNovel = false, givenRepeats = false,
+       givenWindow = false;
 };
 
-void runEval(const EvalCliOptions& o) {
+// The paper's Real Forward-Facing protocol (Table 1): 512x384 images, sources and novel views
+// drawn without replacement from all frames of the scene, 5 sources and 8 novel views, 20
+// repeats; the central 90 % crop is evaluate()'s default.
+void applyProtocol(EvalCliOptions& o) {
+  if (o.protocol == "none")
+    return;
+  if (o.protocol != "rff")
+    fail("--protocol '", o.protocol, "': expected rff or none");
+  if (!o.givenSize)
+    o.size = "512x384";
+  if (!o.givenViews)
+    o.views = 5;
+  if (!o.givenNovel)
+    o.novel = 8;
+  if (!o.givenRepeats)
+    o.repeats = 20;
+  if (!o.givenWindow)
+    o.window = 0;
+}
+
+std::string csvQuote(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s)
+    q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+std::string frameList(const std::vector<int>& frames) {
+  std::string s;
+  for (int f : frames)
+    s += (s.empty() ? "" : " ") + std::to_string(f);
+  return s;
+}
+
+// --out: a folder the user named; created when missing. Only our own file names are written.
+void prepareOutFolder(const std::string& out) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+    fail("--out '", out, "' exists and is not a folder");
+  fs::create_directories(out, ec);
+  if (ec)
+    fail("--out '", out, "': cannot create the folder: ", ec.message());
+}
+
+// One row per scored view and network: the frames, the network's and the baseline's scores.
+void writeViewsCsv(const std::string& path, const std::vector<std::string>& weights,
+                   const std::vector<training::EvalResult>& results) {
+  std::ostringstream csv;
+  csv << "network,weights,scene,sample,target_frame,source_frames,nearest_frame,psnr,ssim,"
+         "nearest_psnr,nearest_ssim\n";
+  csv.precision(6);
+  for (size_t n = 0; n < results.size(); ++n) {
+    const training::EvalResult& r = results[n];
+    for (size_t v = 0; v < r.views.size(); ++v) {
+      const training::EvalView& w = r.views[v];
+      csv << n + 1 << ',' << csvQuote(weights[n]) << ',' << w.scene << ',' << w.sample << ','
+          << w.targetFrame << ',' << frameList(w.sourceFrames) << ',' << w.nearestFrame << ','
+          << std::fixed << r.model[v].psnr << ',' << r.model[v].ssim << ','
+          << r.baseline[v].psnr << ',' << r.baseline[v].ssim << std::defaultfloat << '\n';
+    }
+  }
+  const std::string text = csv.str();
+  io::writeFileAtomically(path, text.data(), text.size());
+}
+
+void runEval(EvalCliOptions o) {
+  applyProtocol(o);
+  if (o.factor < 0)
+    fail("--factor ", o.factor, ": must be >= 0");
   if (o.repeats < 1)
     fail("--repeats ", o.repeats, ": must be >= 1");
   if (o.views < 1)
@@ -51,7 +129,10 @@ void runEval(const EvalCliOptions& o) {
   training::DataOptions data;
   if (!o.size.empty())
     training::parseWidthHeight(o.size, "--size", data.width, data.height);
+  data.imagesFactor = o.factor;
   auto source = training::openTrainingData(o.data, data);
+  if (!o.out.empty())
+    prepareOutFolder(o.out);
   // Every network is loaded (and its config checked) before the first one is scored.
   std::vector<std::unique_ptr<network::SimpliNetwork>> networks;
   for (const std::string& weights : o.weights) {
@@ -81,17 +162,33 @@ void runEval(const EvalCliOptions& o) {
   ProgressBar bar("eval", perNetwork * int64_t(networks.size()));
   std::vector<training::EvalResult> results;
   for (size_t i = 0; i < networks.size(); ++i) {
-    results.push_back(training::evaluate(*networks[i], *source, e, [&](int done, int) {
-      bar.update(int64_t(i) * perNetwork + done);
-    }));
+    // The first sample of every scene as pictures: ground truth | render | error | nearest.
+    auto picture = [&](const training::EvalViewImages& v) {
+      if (o.out.empty() || v.view.sample != 0)
+        return;
+      const io::Image error = metrics::errorMap(v.render, v.truth);
+      char name[96];
+      std::snprintf(name, sizeof name, "net%zu_scene%llu_view%03d.png", i + 1,
+                    static_cast<unsigned long long>(v.view.scene), v.view.targetFrame);
+      io::writeImagePng(metrics::sideBySide({&v.truth, &v.render, &error, &v.nearest}),
+                        (std::filesystem::path(o.out) / name).string());
+    };
+    results.push_back(training::evaluate(
+        *networks[i], *source, e, [&](int done, int) { bar.update(int64_t(i) * perNetwork + done); },
+        picture));
   }
   bar.finish();
+  if (!o.out.empty())
+    writeViewsCsv((std::filesystem::path(o.out) / "views.csv").string(), o.weights, results);
 
   const training::EvalResult& first = results[0];
-  std::printf("evaluated %zu novel views (%s; %d sources, %d repeats, seed %lld; central 90%% "
-              "crop)\n",
-              first.model.size(), source->describe().c_str(), o.views, o.repeats,
-              static_cast<long long>(o.seed));
+  const scene::Scene& scene0 = source->scene(0);
+  std::printf("evaluated %zu novel views (%s%s; %dx%d; %d sources, %d repeats, seed %lld; "
+              "central 90%% crop%s)\n",
+              first.model.size(), source->describe().c_str(),
+              scene0.imagesDir.empty() ? "" : (", images from " + scene0.imagesDir).c_str(),
+              scene0.width(), scene0.height(), o.views, o.repeats, static_cast<long long>(o.seed),
+              o.protocol == "rff" ? "; protocol rff" : "");
   const bool several = networks.size() > 1;
   auto label = [&](size_t i) { return several ? "model " + std::to_string(i + 1) : "model"; };
   for (size_t i = 0; i < networks.size(); ++i) {
@@ -108,6 +205,10 @@ void runEval(const EvalCliOptions& o) {
   for (size_t i = 0; i < networks.size(); ++i)
     line(label(i), results[i].modelPsnr, results[i].modelSsim);
   line("nearest source view", first.baselinePsnr, first.baselineSsim);
+  if (!o.out.empty())
+    std::printf("  wrote %s/views.csv and one picture per view of the first sample "
+                "(ground truth | render | error x4 | nearest source view)\n",
+                o.out.c_str());
   // Paired differences: the same target views, so the per-view spread of the network's
   // quality cancels out.
   for (size_t i = 1; i < networks.size(); ++i) {
@@ -140,12 +241,23 @@ void addEvalCommand(CLI::App& app) {
   cmd->add_option("--config", opts->config,
                   "Network config or training config JSON (default: the weights' "
                   "\"network_config\" metadata, which `simpli train` writes)");
+  cmd->add_option("--protocol", opts->protocol,
+                  "rff: the paper's Real Forward-Facing protocol (512x384, 5 sources and 8 novel "
+                  "views from all frames, 20 repeats); options given explicitly win")
+      ->capture_default_str();
   cmd->add_option("--repeats", opts->repeats, "Samples per scene")->capture_default_str();
   cmd->add_option("--views", opts->views, "Source views per sample")->capture_default_str();
   cmd->add_option("--novel", opts->novel, "Novel (held-out) views per sample")
       ->capture_default_str();
   cmd->add_option("--window", opts->window, "Frame window the views come from (0 = all)")
       ->capture_default_str();
+  cmd->add_option("--factor", opts->factor,
+                  "Read the LLFF / NeRF image folder images_N (default: the images_* folder "
+                  "closest to --size, else images/)")
+      ->capture_default_str();
+  cmd->add_option("--out", opts->out,
+                  "Folder for views.csv and comparison pictures (created when missing; files "
+                  "of those names are replaced, nothing else is touched)");
   cmd->add_option("--scenes", opts->scenes, "Scenes to draw from synthetic data")
       ->capture_default_str();
   cmd->add_option("--seed", opts->seed, "Sampling seed")->capture_default_str();
@@ -154,7 +266,15 @@ void addEvalCommand(CLI::App& app) {
   cmd->add_option("--size", opts->size, "Resize the images to WIDTHxHEIGHT (multiples of 16)");
   cmd->add_option("--dtype", opts->dtype, "f32 or f64")->capture_default_str();
   cmd->add_option("--device", opts->device, "OpenCL device p:d (see `simpli devices`)");
-  cmd->callback([opts] { runEval(*opts); });
+  cmd->callback([opts, cmd] {
+    EvalCliOptions o = *opts;
+    o.givenSize = cmd->count("--size") > 0;
+    o.givenViews = cmd->count("--views") > 0;
+    o.givenNovel = cmd->count("--novel") > 0;
+    o.givenRepeats = cmd->count("--repeats") > 0;
+    o.givenWindow = cmd->count("--window") > 0;
+    runEval(std::move(o));
+  });
 }
 
 } // namespace simpli::app

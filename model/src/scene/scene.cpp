@@ -122,6 +122,17 @@ SceneSource readSource(const std::string& path, SceneFormat format, const std::s
   fail("readScene: no format given for '", path, "'");
 }
 
+// LLFF and COLMAP scenes may hold down-sampled copies of their images (images_N).
+std::string imagesFolder(const std::string& path, SceneFormat format,
+                         const SceneReadOptions& options) {
+  if (!options.imagesDir.empty() || format == SceneFormat::RealEstate10K)
+    return options.imagesDir;
+  std::error_code ec;
+  const fs::path root = fs::is_directory(path, ec) ? fs::path(path) : fs::path(path).parent_path();
+  return chooseImageFolder(root.empty() ? "." : root.string(), options.imagesFactor,
+                           options.preferredWidth);
+}
+
 // The declared size (for which the intrinsics were written) and the image must have the same
 // aspect ratio up to pixel rounding: relative intrinsics survive down-sampling, not cropping.
 void checkDeclaredSize(const SceneSource& src, size_t i, int width, int height) {
@@ -145,10 +156,12 @@ Scene readScene(const std::string& path, const SceneReadOptions& options) {
 
   const SceneFormat format =
       options.format == SceneFormat::Auto ? detectSceneFormat(path) : options.format;
-  const SceneSource src = readSource(path, format, options.imagesDir);
+  const std::string imagesDir = imagesFolder(path, format, options);
+  const SceneSource src = readSource(path, format, imagesDir);
 
   Scene scene;
   scene.root = src.root;
+  scene.imagesDir = imagesDir;
   scene.format = src.format;
   scene.posesFile = src.posesFile;
   for (size_t i = 0; i < src.cameras.size(); ++i) {

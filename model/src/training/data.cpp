@@ -38,7 +38,13 @@ public:
            " scenes)");
     auto it = cache_.find(index);
     if (it == cache_.end()) {
-      scene::Scene s = scene::readScene(paths_[index]);
+      scene::SceneReadOptions ro;
+      ro.imagesFactor = options_.imagesFactor;
+      ro.preferredWidth = options_.width;
+      // A size given: one resize from the stored images to it (not a floor to 16 first).
+      if (options_.width > 0 && options_.height > 0)
+        ro.sizeMultiple = 1;
+      scene::Scene s = scene::readScene(paths_[index], ro);
       resizeScene(s, options_);
       if (s.size() < 2)
         fail("training data: scene ", paths_[index], " has ", s.size(),

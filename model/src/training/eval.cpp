@@ -42,7 +42,8 @@ io::Image tensorToImage(const ocl::Tensor& t) {
 } // namespace
 
 EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const EvalOptions& o,
-                    const std::function<void(int, int)>& progress) {
+                    const std::function<void(int, int)>& progress,
+                    const std::function<void(const EvalViewImages&)>& onView) {
   if (o.repeats < 1)
     fail("evaluate: repeats ", o.repeats, " must be >= 1");
   if (o.views < 1 || o.novelViews < 1)
@@ -86,11 +87,17 @@ EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const E
         const metrics::MetricImage truth = metrics::metricImageFromImage(s.targets[t]);
         const raster::RenderedLayers rl =
             generator::renderNovelView(out, s.reference, s.targetCameras[t], o.raster);
-        result.model.push_back(metrics::evaluateImageQuality(
-            metrics::metricImageFromImage(tensorToImage(rl.colour)), truth, o.keptArea));
+        const io::Image render = tensorToImage(rl.colour);
+        result.model.push_back(metrics::evaluateImageQuality(metrics::metricImageFromImage(render),
+                                                             truth, o.keptArea));
         const int nearest = nearestSourceView(s.sourceCameras, s.targetCameras[t]);
+        const io::Image& nearestImage = s.cleanSources[size_t(nearest)];
         result.baseline.push_back(metrics::evaluateImageQuality(
-            metrics::metricImageFromImage(s.cleanSources[size_t(nearest)]), truth, o.keptArea));
+            metrics::metricImageFromImage(nearestImage), truth, o.keptArea));
+        result.views.push_back(
+            {si, r, s.sourceFrames, s.targetFrames[t], s.sourceFrames[size_t(nearest)]});
+        if (onView)
+          onView({result.views.back(), s.targets[t], render, nearestImage});
       }
       if (progress)
         progress(++done, total);

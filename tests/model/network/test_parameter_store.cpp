@@ -1,5 +1,6 @@
 // ParameterStore: registration, initialisation, safetensors round trips and load errors.
 #include "support/expect_error.h"
+#include "support/temp_dir.h"
 
 #include "simpli/model/io/safetensors.h"
 #include "simpli/model/network/layers.h"

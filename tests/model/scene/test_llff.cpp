@@ -248,3 +248,55 @@ TEST_F(LlffScene, BadBounds) {
   setValue(0, 14, -3); // focal
   expectError([&] { scene::readScene(root); }, {"poses_bounds.npy", "view 0", "focal", "-3"});
 }
+
+// The NeRF layout: images/ at full size and images_N/ down-sampled by N.
+class LlffImageFolders : public LlffScene {
+protected:
+  void SetUp() override {
+    LlffScene::SetUp();
+    for (const auto& [folder, scale] : {std::pair{"images_2", 2}, std::pair{"images_4", 4}}) {
+      fs::create_directories(fs::path(root) / folder);
+      for (size_t i = 0; i < rig.size(); ++i)
+        test::writePatternImage(
+            (fs::path(root) / folder / ("img_0" + std::to_string(i) + ".png")).string(),
+            rig[i].width / scale, rig[i].height / scale, int(i));
+    }
+  }
+};
+
+TEST_F(LlffImageFolders, FactorPicksImagesN) {
+  EXPECT_EQ(scene::chooseImageFolder(root, 2, 0), "images_2");
+  EXPECT_EQ(scene::chooseImageFolder(root, 1, 0), "images");
+  scene::SceneReadOptions o;
+  o.imagesFactor = 2;
+  o.sizeMultiple = 1;
+  const scene::Scene s = scene::readScene(root, o);
+  EXPECT_EQ(s.imagesDir, "images_2");
+  EXPECT_EQ(s.width(), 24);
+  EXPECT_EQ(s.height(), 16);
+  // Relative intrinsics hold for the down-sampled copy.
+  EXPECT_DOUBLE_EQ(s.views[0].camera.fx, rig[0].fx);
+}
+
+TEST_F(LlffImageFolders, PreferredWidthPicksTheClosestFolder) {
+  // Widths 48 (images), 24 (images_2), 12 (images_4); log-scale distance, ties to the larger.
+  EXPECT_EQ(scene::chooseImageFolder(root, 0, 48), "images");
+  EXPECT_EQ(scene::chooseImageFolder(root, 0, 30), "images_2");
+  EXPECT_EQ(scene::chooseImageFolder(root, 0, 10), "images_4");
+  EXPECT_EQ(scene::chooseImageFolder(root, 0, 17), "images_2"); // 24/17 = 1.41 < 17/12 = 1.42
+  EXPECT_EQ(scene::chooseImageFolder(root, 0, 1000), "images");
+  EXPECT_EQ(scene::chooseImageFolder(root, 0, 0), "");
+  scene::SceneReadOptions o;
+  o.preferredWidth = 12;
+  o.sizeMultiple = 1;
+  EXPECT_EQ(scene::readScene(root, o).width(), 12);
+}
+
+TEST_F(LlffImageFolders, MissingFactorFolderNamesTheFoldersFound) {
+  expectError([&] { scene::chooseImageFolder(root, 8, 0); },
+              {"image factor 8", "images_8", "images, images_2, images_4"});
+  expectError([&] { scene::chooseImageFolder(root, -1, 0); }, {"image factor -1"});
+  scene::SceneReadOptions o;
+  o.imagesFactor = 3;
+  expectError([&] { scene::readScene(root, o); }, {"images_3", "does not exist"});
+}

@@ -57,6 +57,13 @@ SceneSource readColmapSource(const std::string& root, const std::string& imagesD
 /// whose image is missing; no image at all is an error. No bounds.
 SceneSource readRealEstateSource(const std::string& path, const std::string& imagesDir = "");
 
+/// The image folder of a scene root to read, relative to it, from the folders `images` and
+/// `images_<N>` (the LLFF / NeRF layout, images_N = down-sampled by N). factor > 0: images_N
+/// (factor 1 = images), an error naming the folders found when it is missing. Otherwise, with
+/// preferredWidth > 0: the folder whose first image's width is closest to preferredWidth on a
+/// log scale (ties: the larger). "" (the reader's default, images/) when neither is given or
+/// the root has no such folder.
+std::string chooseImageFolder(const std::string& root, int factor, int preferredWidth);
 /// Image files (png/jpg/jpeg, any case) directly inside `folder`, sorted by name. Throws when
 /// the folder does not exist.
 std::vector<std::string> listImageFiles(const std::string& folder);

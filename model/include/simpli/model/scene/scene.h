@@ -56,8 +56,11 @@ struct SceneReadOptions {
   /// Images are resized down to the nearest multiple of this (the network needs 16); <= 1
   /// keeps the stored size.
   int sizeMultiple = 16;
-  /// Image folder relative to the scene root (e.g. "images_4" for LLFF); empty: "images".
+  /// Image folder relative to the scene root (e.g. "images_4" for LLFF); empty: "images", or
+  /// the folder chooseImageFolder (scene/readers.h) picks for imagesFactor / preferredWidth.
   std::string imagesDir;
+  int imagesFactor = 0;   ///< > 0: read images_<factor> (LLFF / NeRF layout)
+  int preferredWidth = 0; ///< > 0: read the images_* folder closest to this width
   /// Explicit near / far bounds in scene units; 0 = take them from the scene (or defaults).
   double near = 0, far = 0;
   NormalisationOptions normalisation;
@@ -67,6 +70,7 @@ struct Scene {
   std::string root; ///< the scene folder
   SceneFormat format = SceneFormat::Auto;
   std::string posesFile; ///< the file the cameras were read from
+  std::string imagesDir; ///< the image folder read, relative to root ("" = the default)
   std::vector<SceneView> views;
   double near = 0, far = 0;            ///< normalised units
   std::string boundsSource;            ///< where near/far came from

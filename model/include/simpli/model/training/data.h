@@ -14,6 +14,9 @@ struct DataOptions {
   /// Resize every image to height x width (relative intrinsics unchanged); 0 = keep (scene
   /// readers already floor sizes to multiples of 16).
   int height = 0, width = 0;
+  /// Scene folders: read images_<factor> (LLFF / NeRF layout); 0 = the folder whose images are
+  /// closest to `width` when that is given, else images/ (scene::chooseImageFolder).
+  int imagesFactor = 0;
 };
 
 class TrainingData {

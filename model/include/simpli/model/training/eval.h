@@ -6,6 +6,7 @@
 // The same samples are scored for the nearest-source-view baseline: the source image whose camera
 // centre is closest to the target's, compared as it is. The samples depend only on the data and
 // the options (not on the network), so evaluations of several networks are paired view by view.
+#include "simpli/model/io/image.h"
 #include "simpli/model/metrics/image_quality.h"
 #include "simpli/model/network/network.h"
 #include "simpli/model/raster/rasterizer.h"
@@ -29,7 +30,22 @@ struct EvalOptions {
   double keptArea = 0.9;
 };
 
+/// Which frames one scored target view came from (indices into the scene's views).
+struct EvalView {
+  uint64_t scene = 0;
+  int sample = 0; ///< repeat within the scene
+  std::vector<int> sourceFrames;
+  int targetFrame = 0, nearestFrame = 0;
+};
+
+/// The pictures of one scored view, for comparison grids: all [3, H, W] in [0, 1].
+struct EvalViewImages {
+  const EvalView& view;
+  const io::Image &truth, &render, &nearest;
+};
+
 struct EvalResult {
+  std::vector<EvalView> views;                        ///< per target view
   std::vector<metrics::ImageQuality> model, baseline; ///< per target view
   metrics::MeanStd modelPsnr, modelSsim, baselinePsnr, baselineSsim;
   /// Per sample: the forward pass (building the surfaces), after one untimed warm-up pass.
@@ -40,7 +56,9 @@ struct EvalResult {
 /// Index of the camera in `sources` whose centre is closest to `target`'s (first on ties).
 int nearestSourceView(const std::vector<scene::Camera>& sources, const scene::Camera& target);
 
+/// `onView`, when given, sees every scored view's pictures (to save comparison grids).
 EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const EvalOptions& options,
-                    const std::function<void(int done, int total)>& progress = {});
+                    const std::function<void(int done, int total)>& progress = {},
+                    const std::function<void(const EvalViewImages&)>& onView = {});
 
 } // namespace simpli::training
