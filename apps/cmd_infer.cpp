@@ -279,7 +279,8 @@ void addInferCommand(CLI::App& app) {
   cmd->add_option("scene", o->scene, "Scene folder (LLFF, COLMAP or RealEstate10K)")->required();
   cmd->add_option("--out", o->out,
                   "Output folder: the MLI in JPEG form, its lossless form in OUT/lossless, "
-                  "rendered views")
+                  "rendered views; written as a whole, and an existing one is replaced only if "
+                  "it holds nothing but an earlier simpli infer output")
       ->required();
   cmd->add_option("--weights", o->weights,
                   "Network weights (safetensors, reference key names); default "

@@ -13,7 +13,8 @@
 // missing and .NAME.simpli-old-PID holds the old folder. The next StagedFolder for the same
 // target recovers: it moves such an old folder back (when NAME is missing) and removes the
 // staging and old folders of processes that no longer run (and of its own PID, left by an
-// earlier process of that number). Folders of live processes are left alone.
+// earlier process of that number). Folders of live processes are left alone. So one process
+// writes a given target through one StagedFolder at a time.
 #include <filesystem>
 #include <functional>
 #include <string>
