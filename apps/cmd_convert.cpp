@@ -1,12 +1,14 @@
 // `simpli convert IN OUT [--format jpeg|lossless]`: converts an MLI folder between the
 // reference JPEG form and simpli's lossless float form (model/mli_io.h). The input is read and
 // validated completely before anything is written, and the output folder appears atomically
-// (writeMLI), so a failure leaves no partial OUT and never damages an existing one.
+// (writeMLI), so a failure leaves no partial OUT and never damages an existing one. --force
+// replaces only an MLI that simpli wrote and that holds nothing else (mli::mliReplaceRefusal), and
+// never a folder that contains, or lies inside, the input.
 #include "commands.h"
 
-#include <CLI/CLI.hpp>
 #include "simpli/error.h"
 #include "simpli/model/mli/files.h"
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -24,6 +26,24 @@ struct ConvertOptions {
   bool force = false;
 };
 
+/// Whether `inner` is `outer` or lies inside it, after resolving symbolic links and "..".
+bool isSameOrInside(const std::filesystem::path& inner, const std::filesystem::path& outer) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path a = fs::weakly_canonical(fs::absolute(inner, ec), ec);
+  const fs::path b = fs::weakly_canonical(fs::absolute(outer, ec), ec);
+  if (ec)
+    return false;
+  auto ai = a.begin();
+  for (auto bi = b.begin(); bi != b.end(); ++bi, ++ai) {
+    if (bi->empty()) // a trailing separator
+      continue;
+    if (ai == a.end() || *ai != *bi)
+      return false;
+  }
+  return true;
+}
+
 const char* formatName(mli::MLIFormat f) {
   return f == mli::MLIFormat::Lossless ? "lossless" : "jpeg";
 }
@@ -40,8 +60,17 @@ void runConvert(const ConvertOptions& o) {
   if (o.format != "auto" && o.format != "jpeg" && o.format != "lossless")
     fail("--format: unknown value '", o.format, "' (expected jpeg, lossless or auto)");
 
+  // Replacing OUT deletes it: never when it holds the input (or is it), and writing into the
+  // input would change the MLI being read.
+  if (isSameOrInside(o.input, o.output))
+    fail("output ", o.output, " is or contains the input ", o.input,
+         "; refusing to replace it (choose an output folder outside the input)");
+  if (isSameOrInside(o.output, o.input))
+    fail("output ", o.output, " lies inside the input ", o.input,
+         "; refusing to write into it (choose an output folder outside the input)");
+
   // Refuse to replace an existing, non-empty OUT unless asked to (writeMLI itself never
-  // replaces a folder that is not an MLI).
+  // replaces a folder that is not an MLI written by simpli).
   std::error_code ec;
   if (fs::exists(o.output, ec) && !o.force &&
       !(fs::is_directory(o.output, ec) && fs::is_empty(o.output, ec)))
@@ -78,7 +107,9 @@ void addConvertCommand(CLI::App& app) {
                   "How 8-bit depths of a JPEG input are decoded: viewer (lo + q (hi - lo)/255) "
                   "or bin-centre (lo + (q + 0.5)(hi - lo)/256)")
       ->capture_default_str();
-  cmd->add_flag("--force", opts->force, "Replace an existing MLI folder at the output");
+  cmd->add_flag("--force", opts->force,
+                "Replace an existing MLI folder at the output (only one simpli wrote, holding "
+                "nothing else)");
   cmd->callback([opts] { runConvert(*opts); });
 }
 

@@ -5,22 +5,30 @@
 // sources (spec §6.1). Optionally renders views of the scene (--render-views; held-out ones measure
 // quality) to PNG and prints PSNR / SSIM on the paper's 90 % central crop, and prints the time of
 // every generator stage. The forward pass shows a progress bar over its stages; SIGINT / SIGTERM
-// cancel it after the current stage, write nothing and exit with 130 / 143.
+// cancel it after the current stage (or after the write, before the commit), write nothing and
+// exit with 130 / 143.
+//
+// DIR is written as a whole (io/staged_folder.h): both MLI forms, the rendered views and the
+// random weights go into one hidden staging sibling that replaces DIR in one step, so a failure or
+// a kill leaves the old complete DIR or the new one. An existing DIR is replaced only when it
+// holds nothing but what an earlier `simpli infer` wrote (mli::mliReplaceRefusal with the extras
+// below); anything else is refused before the forward pass.
 #include "commands.h"
 #include "progress_bar.h"
-#include "stop_signals.h"
 #include "simpli/model/network/loader.h"
+#include "stop_signals.h"
 
-#include <CLI/CLI.hpp>
 #include "simpli/error.h"
 #include "simpli/model/generator/mli_builder.h"
 #include "simpli/model/io/image.h"
+#include "simpli/model/io/staged_folder.h"
 #include "simpli/model/metrics/image_quality.h"
 #include "simpli/model/mli/files.h"
 #include "simpli/model/scene/scene.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -81,6 +89,32 @@ float layersThreshold(const std::string& layers, const network::NetworkConfig& c
   return 0.0f;
 }
 
+/// What `simpli infer` writes into DIR besides the JPEG MLI: the lossless MLI, rendered views,
+/// the random weights.
+mli::MLIFolderExtras inferOutputExtras() {
+  mli::MLIFolderExtras extras;
+  extras.mliFolders = {"lossless"};
+  extras.isExtraFile = [](const std::string& name) {
+    if (name == "random_weights.safetensors")
+      return true;
+    const std::string prefix = "render_", suffix = ".png";
+    if (name.size() <= prefix.size() + suffix.size() || name.rfind(prefix, 0) != 0 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      return false;
+    const std::string digits =
+        name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    return digits.find_first_not_of("0123456789") == std::string::npos;
+  };
+  return extras;
+}
+
+int cancelled(const std::string& out) {
+  const int sig = stopSignal();
+  std::fprintf(stderr, "simpli infer: %s received; cancelled, nothing written to %s\n",
+               sig == SIGTERM ? "SIGTERM" : "SIGINT", out.c_str());
+  return 128 + sig;
+}
+
 /// The network's image of a rendered colour [3, H, W] in [-1, 1].
 io::Image toImage(const ocl::Tensor& colour) {
   io::Image image(static_cast<int>(colour.size(2)), static_cast<int>(colour.size(1)));
@@ -91,6 +125,9 @@ io::Image toImage(const ocl::Tensor& colour) {
 int runInfer(const InferOptions& o) {
   namespace fs = std::filesystem;
   const auto start = Clock::now();
+  // Before the device is opened (stop_signals.h), and until the output is committed: a signal
+  // cancels the forward pass or the write, and never kills the command or its helpers.
+  StopSignals signals;
   if (!o.device.empty()) {
     const auto [platform, device] = ocl::Device::parseSelector(o.device, "--device");
     ocl::Device::select(platform, device);
@@ -99,6 +136,11 @@ int runInfer(const InferOptions& o) {
     fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
   if (o.out.empty())
     fail("--out: an output folder is required");
+  // Before the long work: an --out that must not be replaced fails now.
+  const io::ReplaceCheck replaceable = [](const fs::path& folder) {
+    return mli::mliReplaceRefusal(folder.string(), inferOutputExtras());
+  };
+  io::checkReplaceable(o.out, replaceable, "--out");
 
   // Scene and source views.
   auto t0 = Clock::now();
@@ -149,7 +191,6 @@ int runInfer(const InferOptions& o) {
   t0 = Clock::now();
   generator::MLIBuild build;
   {
-    StopSignals signals;
     std::fflush(stdout);
     ProgressBar bar("forward", 1);
     options.progress = [&bar](const std::string& stage, int done, int total) {
@@ -162,10 +203,7 @@ int runInfer(const InferOptions& o) {
       build = builder.build(scene, options);
     } catch (const generator::GeneratorCancelled&) {
       bar.finish();
-      const int sig = stopSignal();
-      std::fprintf(stderr, "simpli infer: %s received; cancelled, nothing written to %s\n",
-                   sig == SIGTERM ? "SIGTERM" : "SIGINT", o.out.c_str());
-      return 128 + sig;
+      return cancelled(o.out);
     }
     bar.finish();
   }
@@ -180,25 +218,28 @@ int runInfer(const InferOptions& o) {
   std::printf("\nforward    %.1f ms, peak device memory %.1f MiB\n", forwardMs,
               (pool.stats().peakBytes - std::min(liveBefore, pool.stats().peakBytes)) / 1048576.0);
 
-  // The MLI in both forms.
+  // Everything goes into one staging folder that replaces --out at the end.
   t0 = Clock::now();
   const mli::MLI& mli = build.mli;
   const fs::path outDir(o.out);
   if (outDir.has_parent_path())
     fs::create_directories(outDir.parent_path());
-  mli::writeMLI(o.out, mli, mli::MLIFormat::Jpeg);
+  io::StagedFolder staged(o.out, replaceable, {"--out"});
+  const fs::path& tmp = staged.path();
+  mli::writeMLIFiles(tmp.string(), mli, mli::MLIFormat::Jpeg);
+  fs::create_directory(tmp / "lossless");
+  mli::writeMLIFiles((tmp / "lossless").string(), mli, mli::MLIFormat::Lossless);
   const std::string lossless = (outDir / "lossless").string();
-  mli::writeMLI(lossless, mli, mli::MLIFormat::Lossless);
   const int surfaces = static_cast<int>(output.rgba.size(0));
   std::printf("MLI        %d of %d %s (%d x %d) -> %s (jpeg), %s (lossless); %.1f ms\n",
               mli.numLayers(), surfaces, config.mpiOnly ? "planes" : "layers", mli.width(),
               mli.height(), o.out.c_str(), lossless.c_str(), msSince(t0));
   if (o.initRandom >= 0) {
     // So that the same random network can be loaded again (tests, benchmarks).
-    const std::string path = (outDir / "random_weights.safetensors").string();
     network.parameters().save(
-        path, {{"config", network::toJson(config)}, {"seed", std::to_string(o.initRandom)}});
-    std::printf("weights    saved to %s\n", path.c_str());
+        (tmp / "random_weights.safetensors").string(),
+        {{"config", network::toJson(config)}, {"seed", std::to_string(o.initRandom)}});
+    std::printf("weights    saved to %s\n", (outDir / "random_weights.safetensors").c_str());
   }
 
   // Rendered views.
@@ -213,14 +254,18 @@ int runInfer(const InferOptions& o) {
     const io::Image image = toImage(r.colour);
     char name[64];
     std::snprintf(name, sizeof name, "render_%03d.png", k);
-    const std::string path = (outDir / name).string();
-    io::writeImagePng(image, path);
+    io::writeImagePng(image, (tmp / name).string());
     const bool source = std::find(views.begin(), views.end(), k) != views.end();
     const metrics::ImageQuality q = metrics::evaluateImageQuality(
         metrics::metricImageFromImage(image), metrics::metricImageFromImage(view.image));
     std::printf("view %-5d %s PSNR %.2f dB SSIM %.4f (%s, 90%% central crop); %.1f ms\n", k,
-                path.c_str(), q.psnr, q.ssim, source ? "source view" : "held out", msSince(t0));
+                (outDir / name).c_str(), q.psnr, q.ssim, source ? "source view" : "held out",
+                msSince(t0));
   }
+  std::fflush(stdout);
+  if (stopSignal() != 0)
+    return cancelled(o.out); // the staging folder goes with `staged`
+  staged.commit();
   std::printf("total      %.1f ms (scene read %.1f ms)\n", msSince(start), readMs);
   return 0;
 }
@@ -234,7 +279,8 @@ void addInferCommand(CLI::App& app) {
   cmd->add_option("scene", o->scene, "Scene folder (LLFF, COLMAP or RealEstate10K)")->required();
   cmd->add_option("--out", o->out,
                   "Output folder: the MLI in JPEG form, its lossless form in OUT/lossless, "
-                  "rendered views")
+                  "rendered views; written as a whole, and an existing one is replaced only if "
+                  "it holds nothing but an earlier simpli infer output")
       ->required();
   cmd->add_option("--weights", o->weights,
                   "Network weights (safetensors, reference key names); default "

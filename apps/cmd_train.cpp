@@ -1,14 +1,15 @@
 // `simpli train DATA --config C --out RUN`: trains a SIMPLI network (model/training/). DATA is a
-// scene folder, a folder of scene folders, or synthetic[:SEED]. SIGINT / SIGTERM finish the
-// current step, write a checkpoint and exit with 130 / 143; `--resume` continues the run.
+// scene folder, a folder of scene folders, or synthetic[:SEED]. SIGINT / SIGTERM (any number of
+// them, from the moment the command starts) finish the current step, write a checkpoint and exit
+// with 130 / 143; `--resume` continues the run.
 #include "commands.h"
 #include "progress_bar.h"
 #include "stop_signals.h"
 
-#include <CLI/CLI.hpp>
 #include "simpli/error.h"
 #include "simpli/model/training/trainer.h"
 #include "simpli/ocl/device.h"
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <cstdlib>
@@ -33,6 +34,9 @@ void selectDevice(const std::string& text) {
 }
 
 int runTrain(const TrainCliOptions& o) {
+  // First of all: a signal during start-up (device, data, network) is a stop request too, and
+  // every later one is absorbed until the checkpoint is written (stop_signals.h).
+  StopSignals signals;
   selectDevice(o.device);
   training::TrainerOptions t;
   t.data = o.data;
@@ -55,7 +59,6 @@ int runTrain(const TrainCliOptions& o) {
   else if (!o.resume)
     fail("--config is required for a new run (a resumed run uses its own config.json)");
 
-  StopSignals signals;
   std::unique_ptr<ProgressBar> bar;
   t.message = [&](const std::string& m) {
     if (bar)
@@ -82,9 +85,12 @@ int runTrain(const TrainCliOptions& o) {
               static_cast<long long>(trainer.totalSteps()), o.out.c_str(), o.out.c_str(),
               averaged.c_str());
   std::fflush(stdout);
-  if (result.interrupted && sig != 0) {
-    std::fprintf(stderr, "simpli train: %s received; checkpoint written, resume with --resume\n",
-                 sig == SIGTERM ? "SIGTERM" : "SIGINT");
+  if (sig != 0) {
+    // Also when the signal came during the final checkpoint of a finished run: the caller
+    // (timeout, a shell) asked the command to stop and learns that it did.
+    std::fprintf(stderr, "simpli train: %s received; checkpoint written%s\n",
+                 sig == SIGTERM ? "SIGTERM" : "SIGINT",
+                 result.interrupted ? ", resume with --resume" : " (the run had finished)");
     return 128 + sig;
   }
   return 0;

@@ -1,13 +1,15 @@
 // simpli: command line entry point.
 #include "commands.h"
+#include "stop_signals.h"
 
-#include <CLI/CLI.hpp>
 #include "simpli/error.h"
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <exception>
 
 int main(int argc, char** argv) {
+  simpli::app::unblockStopSignalsInMainThread();
   CLI::App app{"simpli: Self-improving Multiplane-to-Layer Images (novel view synthesis)"};
   app.require_subcommand(1);
   simpli::app::addDevicesCommand(app);

@@ -16,8 +16,9 @@
  *
  * The write is atomic: the folder is assembled in a hidden temporary sibling and renamed into
  * place when complete, so a failure never leaves a partial MLI, and an existing MLI folder at
- * FileName is replaced only by a complete one (a non-empty folder that is not an MLI is never
- * replaced). Invalid input (missing camera array or point array, a layer whose point count is
+ * FileName is replaced only by a complete one. Only an MLI that simpli wrote and that holds
+ * nothing else is replaced (simpli::mli::mliReplaceRefusal); any other non-empty folder is
+ * refused with an error naming it and the entry, never emptied. Invalid input (missing camera array or point array, a layer whose point count is
  * not W x H, values out of range, ...) fails the request with vtkErrorMacro naming the file,
  * the layer, the array and the value; Write() then returns 0 and nothing is written.
  */

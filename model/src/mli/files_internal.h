@@ -1,8 +1,7 @@
 #pragma once
 // Private pieces of the MLI reader/writer (mli/files.h): meta.json, file names, image files and
-// the atomic folder write. Not installed; used by mli_io*.cpp only.
+// the file names. Not installed; used by mli/files*.cpp only.
 #include <filesystem>
-#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,6 +17,9 @@ namespace fs = std::filesystem;
 
 /// The value of meta.json's "format" for the lossless form (absent in the reference form).
 inline constexpr const char* kLosslessFormatTag = "simpli-mli-float";
+/// meta.json's mark of an MLI written by simpli: "written_by": "simpli" (both forms).
+inline constexpr const char* kWrittenByKey = "written_by";
+inline constexpr const char* kWrittenByValue = "simpli";
 
 /// Layer file/key name: layerName("layer_depth_", 3, ".jpg") == "layer_depth_03.jpg". The index
 /// has at least two digits, like the reference's "%02d".
@@ -29,6 +31,7 @@ struct Meta {
   int height = 0, width = 0;
   scene::Camera camera;                          ///< width/height filled from frame_size
   std::vector<std::pair<double, double>> ranges; ///< per layer [lo, hi]; size() = L
+  bool writtenBySimpli = false;                  ///< "written_by": "simpli" present
 };
 
 /// Reads and checks `folder`/meta.json: valid JSON object; frame_size = two integers in
@@ -38,8 +41,11 @@ struct Meta {
 /// matching "num_layers". Errors name the file, the key and the value.
 Meta readMeta(const fs::path& folder);
 
-/// Writes meta.json for `mli` into `folder` (the reference keys, plus "format" and "num_layers"
-/// for the lossless form). ranges[k] = [lo, hi] of layer k's depth.
+/// The files of an MLI of `layers` layers in `format`, meta.json included.
+std::vector<std::string> mliFileNames(MLIFormat format, int layers);
+
+/// Writes meta.json for `mli` into `folder` (the reference keys, "written_by", plus "format" and
+/// "num_layers" for the lossless form). ranges[k] = [lo, hi] of layer k's depth.
 void writeMeta(const fs::path& folder, const MLI& mli,
                const std::vector<std::pair<double, double>>& ranges, MLIFormat format);
 
@@ -56,12 +62,5 @@ MLI readJpegLayers(const fs::path& folder, const Meta& meta, const MLIReadOption
 void writeJpegLayers(const fs::path& folder, const MLI& mli);
 MLI readLosslessLayers(const fs::path& folder, const Meta& meta);
 void writeLosslessLayers(const fs::path& folder, const MLI& mli);
-
-/// Creates a hidden temporary sibling of `target`, lets `fill` write into it, flushes it to
-/// disk, then moves it to `target` (atomically exchanging with an existing folder where the
-/// file system supports it). On any failure the temporary folder is removed and `target` is
-/// left as it was. An existing `target` must be a folder that is empty or holds a meta.json.
-void writeFolderAtomically(const fs::path& target,
-                           const std::function<void(const fs::path& tmp)>& fill);
 
 } // namespace simpli::mli

@@ -88,6 +88,21 @@ std::string layerName(const std::string& prefix, int k, const std::string& suffi
   return prefix + digits + suffix;
 }
 
+std::vector<std::string> mliFileNames(MLIFormat format, int layers) {
+  std::vector<std::string> names{"meta.json"};
+  for (int k = 0; k < layers; ++k) {
+    if (format == MLIFormat::Lossless) {
+      names.push_back(layerName("layer_rgba_", k, ".tiff"));
+      names.push_back(layerName("layer_depth_", k, ".tiff"));
+    } else {
+      names.push_back(layerName("layer_", k, ".jpg"));
+      names.push_back(layerName("layer_alpha_", k, ".jpg"));
+      names.push_back(layerName("layer_depth_", k, ".jpg"));
+    }
+  }
+  return names;
+}
+
 std::pair<double, double> depthRange(const MLILayer& layer) {
   const auto [lo, hi] = std::minmax_element(layer.depth.begin(), layer.depth.end());
   return {*lo, *hi};
@@ -119,6 +134,8 @@ Meta readMeta(const fs::path& folder) {
     fail(file, ": expected a JSON object, found ", excerpt(root));
 
   Meta meta;
+  if (auto it = root.find(kWrittenByKey); it != root.end())
+    meta.writtenBySimpli = it->is_string() && it->get<std::string>() == kWrittenByValue;
   if (auto it = root.find("format"); it != root.end()) {
     if (!it->is_string() || it->get<std::string>() != kLosslessFormatTag)
       fail(file, ": \"format\" is ", excerpt(*it), ", expected \"", kLosslessFormatTag,
@@ -212,6 +229,7 @@ void writeMeta(const fs::path& folder, const MLI& mli,
     root["format"] = kLosslessFormatTag;
     root["num_layers"] = mli.numLayers();
   }
+  root[kWrittenByKey] = kWrittenByValue;
 
   const fs::path path = folder / "meta.json";
   std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -17,10 +17,15 @@
 //   uncompressed) and layer_depth_XX.tiff (32-bit float, 1 sample). The floats round-trip
 //   bit-exactly (checked by the tests with the system OpenCV/libtiff).
 //
-// Writes are atomic: everything goes into a hidden temporary sibling folder that is renamed
-// into place only when complete, so a failed or interrupted write never leaves a partial MLI,
-// and an existing MLI at the target is replaced only by a complete one.
+// Both forms also carry "written_by": "simpli" in meta.json (readers ignore it): the mark that
+// lets a later write replace the folder (see writeMLI).
+//
+// Writes are atomic (io/staged_folder.h): everything goes into a hidden staging sibling that
+// replaces the target in one step only when complete, so a failed or killed write never leaves a
+// partial MLI, and an existing MLI at the target is replaced only by a complete one.
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "simpli/model/mli/mli.h"
 
@@ -51,9 +56,32 @@ MLIFormat detectMLIFormat(const std::string& path);
 /// field and the value.
 MLI readMLI(const std::string& path, const MLIReadOptions& options = {});
 
+/// What an output folder may hold besides one MLI's own files (a command's other outputs), for
+/// mliReplaceRefusal.
+struct MLIFolderExtras {
+  /// Subfolders that are MLIs written by simpli themselves (`simpli infer`'s "lossless").
+  std::vector<std::string> mliFolders;
+  /// Other regular files the command writes, by name (`simpli infer`'s render_KKK.png); none
+  /// when empty.
+  std::function<bool(const std::string& name)> isExtraFile;
+};
+
+/// Why the existing, non-empty folder `path` must not be replaced by a new MLI; "" when it may.
+/// It may when it is verifiably an MLI written by simpli and nothing else: its meta.json is
+/// valid and has "written_by": "simpli", and every entry is a regular file of that MLI's form
+/// and layer count (meta.json and its layer_*_XX files) or one that `extras` names. A folder
+/// holding anything else (a user's notes.txt, photos/) is refused, never emptied.
+std::string mliReplaceRefusal(const std::string& path, const MLIFolderExtras& extras = {});
+
 /// Validates `mli` (nothing is created when that fails), then writes it atomically as the
-/// folder `path`. An existing folder at `path` is replaced only if it is empty or holds a
-/// meta.json (i.e. looks like an MLI); anything else there is refused, never deleted.
+/// folder `path`. An existing folder at `path` is replaced only if it is empty or
+/// mliReplaceRefusal accepts it; anything else is refused with an error naming the folder and
+/// the entry that is not simpli's.
 void writeMLI(const std::string& path, const MLI& mli, MLIFormat format = MLIFormat::Jpeg);
+
+/// Writes the files of `mli` into the existing folder `folder`, not atomically: the building
+/// block of an output made of several parts that is staged as a whole (io::StagedFolder, as
+/// `simpli infer` does). Validates `mli` first.
+void writeMLIFiles(const std::string& folder, const MLI& mli, MLIFormat format);
 
 } // namespace simpli::mli
