@@ -38,6 +38,19 @@ std::string gemmName(const char* what, const Operand& a, const Operand& b, int64
          std::to_string(m) + "x" + std::to_string(n) + "x" + std::to_string(k);
 }
 
+// Everything that selects the kernels and work sizes CLBlast launches for a GEMM: routine,
+// precision, shape, transposes, leading dimensions, whether operands start at offset 0 (else it
+// copies them), batch. Device::settleFirstUse finishes the queue the first time a key is seen
+// (PoCL compiles each CLBlast kernel at its first launch; see Device::settleFirstLaunch).
+template <typename T>
+std::string firstUseKey(const char* routine, const Operand& a, const Operand& b, int64_t m,
+                        int64_t n, int64_t k, std::size_t cOffset, std::size_t ldc, int64_t batch) {
+  return std::string(routine) + (sizeof(T) == 8 ? " f64 " : " f32 ") + gemmName("", a, b, m, n, k) +
+         " ld " + std::to_string(a.ld) + "," + std::to_string(b.ld) + "," + std::to_string(ldc) +
+         " off0 " + std::to_string(a.offset == 0) + std::to_string(b.offset == 0) +
+         std::to_string(cOffset == 0) + " x" + std::to_string(batch);
+}
+
 template <typename T>
 void gemmT(const char* op, int64_t m, int64_t n, int64_t k, double alpha, const Operand& a,
            const Operand& b, double beta, cl_mem c, std::size_t cOffset, std::size_t ldc) {
@@ -63,13 +76,15 @@ void gemmT(const char* op, int64_t m, int64_t n, int64_t k, double alpha, const 
                             static_cast<T>(beta), c, cOffset, ldc, &queue, nullptr,
                             temp ? temp->mem() : nullptr);
   check(status, op, "Gemm", m, n, k, 1);
+  device.settleFirstUse(firstUseKey<T>("Gemm", a, b, m, n, k, cOffset, ldc, 1));
 }
 
 template <typename T>
 void batchedT(const char* op, int64_t m, int64_t n, int64_t k, double alpha, const Operand& a,
               std::size_t strideA, const Operand& b, std::size_t strideB, double beta, cl_mem c,
               std::size_t cOffset, std::size_t ldc, std::size_t strideC, int64_t batch) {
-  cl_command_queue queue = Device::current().queue();
+  Device& device = Device::current();
+  cl_command_queue queue = device.queue();
   const Profiler::Scope profile(Profiler::enabled()
                                     ? gemmName("clblast.GemmStridedBatched", a, b, m, n, k) + " x" +
                                           std::to_string(batch)
@@ -80,6 +95,7 @@ void batchedT(const char* op, int64_t m, int64_t n, int64_t k, double alpha, con
       a.offset, a.ld, strideA, b.mem, b.offset, b.ld, strideB, static_cast<T>(beta), c, cOffset,
       ldc, strideC, static_cast<std::size_t>(batch), &queue, nullptr);
   check(status, op, "GemmStridedBatched", m, n, k, batch);
+  device.settleFirstUse(firstUseKey<T>("GemmStridedBatched", a, b, m, n, k, cOffset, ldc, batch));
 }
 
 } // namespace

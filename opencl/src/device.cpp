@@ -184,6 +184,55 @@ void Device::finish() {
   checkCl(clFinish(queue_), "clFinish");
 }
 
+// Exit with work in flight (issue 9). PoCL's CPU devices compile a kernel for each local size
+// on a worker thread when it is first launched (pocl_check_kernel_disk_cache -> LLVM), and
+// LLVM/clang create function-local statics during that compile. When the process exits while
+// such a compile runs (an empty PoCL cache: a fresh machine, CI), the main thread runs static
+// destructors under it and the process dies with SIGSEGV (or SIGABRT) after its work is done.
+// Two measures, both needed (tests/opencl/exit/):
+// - The first launch of every (kernel, work size) is made synchronous, so no compile is left in
+//   flight. The key holds the whole global size, a superset of what PoCL specialises on (local
+//   size, zero offset, small grid). Later launches hit PoCL's in-memory kernel cache and stay
+//   asynchronous. Cost: one clFinish per distinct first launch.
+// - After each such first launch, quiesce() is registered (again) with atexit and
+//   at_quick_exit. Handlers run in reverse order of registration, and the statics the compile
+//   constructed registered their destructors after our earlier registrations; only a
+//   registration made after them runs before their destructors and drains the queue first.
+// A warm-up kernel at start-up does not help: it hits the disk cache and compiles nothing, and
+// forcing a recompile costs seconds per process.
+void Device::settleFirstLaunch(cl_kernel kernel, cl_uint dims, const std::size_t* global,
+                               const std::size_t* local) {
+  LaunchKey key{reinterpret_cast<std::size_t>(kernel), dims, 1, 1, 1, 0, 0, 0};
+  for (cl_uint d = 0; d < dims && d < 3; ++d) {
+    key[2 + d] = global[d];
+    key[5 + d] = local ? local[d] : 0;
+  }
+  if (launched_.insert(key).second)
+    settle();
+}
+
+void Device::settleFirstUse(const std::string& key) {
+  if (used_.insert(key).second)
+    settle();
+}
+
+namespace {
+void quiesceAtExit() {
+  Device::quiesce();
+}
+} // namespace
+
+void Device::settle() {
+  finish();
+  std::atexit(quiesceAtExit);
+  std::at_quick_exit(quiesceAtExit);
+}
+
+void Device::quiesce() noexcept {
+  if (const auto& device = currentSlot(); device && device->queue_)
+    clFinish(device->queue_);
+}
+
 void checkCl(cl_int status, const char* what) {
   if (status != CL_SUCCESS)
     fail(what, ": OpenCL error ", clErrorName(status), " (", status, ")");

@@ -87,9 +87,11 @@ void Launch::run3(int64_t n0, int64_t n1, int64_t n2, std::size_t l0, std::size_
 
 void Launch::enqueue(cl_uint dims, const std::size_t* global, const std::size_t* local) {
   const Profiler::Scope profile(Profiler::enabled() ? name_ : std::string());
-  cl_int status = clEnqueueNDRangeKernel(Device::current().queue(), kernel_, dims, nullptr, global,
-                                         local, 0, nullptr, nullptr);
+  Device& device = Device::current();
+  cl_int status = clEnqueueNDRangeKernel(device.queue(), kernel_, dims, nullptr, global, local, 0,
+                                         nullptr, nullptr);
   checkCl(status, name_.c_str());
+  device.settleFirstLaunch(kernel_, dims, global, local);
 }
 
 cl_int8 toInt8(const Shape& values) {

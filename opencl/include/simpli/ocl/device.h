@@ -5,8 +5,10 @@
 // the first GPU of any platform, else the first CPU device.
 #include <CL/cl.h>
 
+#include <array>
 #include <cstddef>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -60,8 +62,24 @@ public:
   /// Blocks until every queued command finished.
   void finish();
 
+  /// Called right after enqueueing `kernel` with this work size: the first time a (kernel,
+  /// work size) pair is seen, waits until it ran, so that a runtime that compiles at first
+  /// launch (PoCL) never compiles while the process exits (see device.cpp).
+  void settleFirstLaunch(cl_kernel kernel, cl_uint dims, const std::size_t* global,
+                         const std::size_t* local);
+  /// The same for a library call that enqueues kernels of its own (CLBlast); `key` names the
+  /// routine and everything that selects its kernels and work sizes (precision, shape, ...).
+  void settleFirstUse(const std::string& key);
+  /// Finishes the open device's queue, if a device is open; never opens one, never throws.
+  /// Registered with atexit and at_quick_exit by the two calls above.
+  static void quiesce() noexcept;
+
 private:
   Device(int platformIndex, int deviceIndex);
+  void settle();
+  using LaunchKey = std::array<std::size_t, 8>; // kernel, dims, global[3], local[3]
+  std::set<LaunchKey> launched_;
+  std::set<std::string> used_;
   DeviceInfo info_;
   cl_device_id device_ = nullptr;
   cl_context context_ = nullptr;
