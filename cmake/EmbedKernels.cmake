@@ -1,5 +1,9 @@
-# Writes OUTPUT: a C++ file holding every kernel source in KERNEL_DIR/*.cl as a raw string, keyed by
-# file stem, looked up through simpli::ocl::embeddedKernelSource(name).
+# Writes OUTPUT: a C++ file holding kernel sources as raw strings in a map returned by
+# simpli::ocl::embeddedKernelSources(). Programs are keyed by file stem (elementwise.cl ->
+# "elementwise"), headers by file name (elementwise_op_codes.h -> "elementwise_op_codes.h"; the
+# program cache splices them in at `#include "elementwise_op_codes.h"`).
+# FILES: the files to embed, separated by '|' (an explicit list); without it, every
+# KERNEL_DIR/PATTERN file.
 # Optional: PATTERN (default *.cl) and FUNCTION (default embeddedKernelSources) embed other text
 # files the same way (the CLBlast tuning tables, tuning/*.json -> embeddedTuningTables()).
 # NAMESPACE (default simpli::ocl) lets another library embed its own kernels (model/).
@@ -12,12 +16,19 @@ endif ()
 if (NOT NAMESPACE)
   set(NAMESPACE "simpli::ocl")
 endif ()
-file(GLOB SOURCES "${KERNEL_DIR}/${PATTERN}")
+if (FILES)
+  string(REPLACE "|" ";" SOURCES "${FILES}")
+else ()
+  file(GLOB SOURCES "${KERNEL_DIR}/${PATTERN}")
+endif ()
 list(SORT SOURCES)
 set(body "")
 set(table "")
 foreach (src IN LISTS SOURCES)
   get_filename_component(stem "${src}" NAME_WE)
+  if (src MATCHES "\\.h$")
+    get_filename_component(stem "${src}" NAME)
+  endif ()
   file(READ "${src}" text)
   string(MAKE_C_IDENTIFIER "${stem}" id)
   string(APPEND body "static const char* const k_${id} = R\"SIMPLICL(${text})SIMPLICL\";\n")

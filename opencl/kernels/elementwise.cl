@@ -14,15 +14,7 @@
 #define UOP op
 #endif
 
-// Binary op codes (match BinaryOp in ops_elementwise.cpp).
-#define OP_ADD 0
-#define OP_SUB 1
-#define OP_MUL 2
-#define OP_DIV 3
-#define OP_MAX 4
-#define OP_MIN 5
-#define OP_GE 6
-#define OP_LE 7
+#include "elementwise_op_codes.h"
 
 inline REAL binary_apply(const int op, const REAL a, const REAL b) {
   switch (op) {
@@ -84,23 +76,6 @@ __kernel void sum_to_shape(const int n_out, const int ndim, const int8 out_shape
     acc += src[base + offset_of(r, red_shape, src_strides, ndim)];
   out[j] = acc;
 }
-
-// Unary op codes (match UnaryOp in ops_elementwise.cpp).
-#define U_NEG 0
-#define U_EXP 1
-#define U_LOG 2
-#define U_SQRT 3
-#define U_SQUARE 4
-#define U_ABS 5
-#define U_RELU 6
-#define U_ELU 7
-#define U_SIGMOID 8
-#define U_TANH 9
-#define U_SOFTPLUS 10
-#define U_ADD_SCALAR 11
-#define U_MUL_SCALAR 12
-#define U_CLAMP 13
-#define U_POW_SCALAR 14
 
 // Every form is finite for |x| up to 1e30 (and beyond): no exp of a large positive number.
 inline REAL stable_sigmoid(const REAL x) {

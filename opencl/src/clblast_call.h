@@ -2,7 +2,7 @@
 // Internal: row-major GEMMs on device buffers through CLBlast, in the tensor's precision, on the
 // current device's queue. Offsets and leading dimensions are in elements. Failures throw
 // simpli::Error naming the calling op, the CLBlast routine, its status and the sizes.
-#include "simpli/ocl/program_cache.h"
+#include "simpli/ocl/dtype.h"
 
 #include <CL/cl.h>
 

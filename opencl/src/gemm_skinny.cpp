@@ -1,6 +1,6 @@
 #include "gemm_skinny.h"
 
-#include "launch.h"
+#include "simpli/ocl/launch.h"
 #include "simpli/ocl/profiler.h"
 #include "simpli/ocl/tensor.h"
 

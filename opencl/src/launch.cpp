@@ -1,4 +1,4 @@
-#include "launch.h"
+#include "simpli/ocl/launch.h"
 
 #include "simpli/error.h"
 #include "simpli/ocl/profiler.h"

@@ -1,9 +1,9 @@
 #include "simpli/ocl/ops_conv.h"
 
 #include "clblast_call.h"
-#include "launch.h"
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
+#include "simpli/ocl/launch.h"
 #include "simpli/ocl/ops_reduce.h"
 
 #include <algorithm>

@@ -1,31 +1,41 @@
 #include "simpli/ocl/ops_elementwise.h"
 
-#include "launch.h"
+#include "elementwise_op_codes.h" // kernels/, shared with elementwise.cl
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
+#include "simpli/ocl/launch.h"
 
 #include <algorithm>
 
 namespace simpli::ocl {
 namespace {
 
-enum BinaryOp { kAdd = 0, kSub = 1, kMul = 2, kDiv = 3, kMax = 4, kMin = 5, kGe = 6, kLe = 7 };
+enum BinaryOp {
+  kAdd = OP_ADD,
+  kSub = OP_SUB,
+  kMul = OP_MUL,
+  kDiv = OP_DIV,
+  kMax = OP_MAX,
+  kMin = OP_MIN,
+  kGe = OP_GE,
+  kLe = OP_LE
+};
 enum UnaryOp {
-  kNeg = 0,
-  kExp,
-  kLog,
-  kSqrt,
-  kSquare,
-  kAbs,
-  kRelu,
-  kElu,
-  kSigmoid,
-  kTanh,
-  kSoftplus,
-  kAddScalar,
-  kMulScalar,
-  kClamp,
-  kPowScalar
+  kNeg = U_NEG,
+  kExp = U_EXP,
+  kLog = U_LOG,
+  kSqrt = U_SQRT,
+  kSquare = U_SQUARE,
+  kAbs = U_ABS,
+  kRelu = U_RELU,
+  kElu = U_ELU,
+  kSigmoid = U_SIGMOID,
+  kTanh = U_TANH,
+  kSoftplus = U_SOFTPLUS,
+  kAddScalar = U_ADD_SCALAR,
+  kMulScalar = U_MUL_SCALAR,
+  kClamp = U_CLAMP,
+  kPowScalar = U_POW_SCALAR
 };
 
 const char* binaryName(int op) {

@@ -1,9 +1,9 @@
 #include "simpli/ocl/ops_norm.h"
 
-#include "launch.h"
 #include "row_blocks.h"
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
+#include "simpli/ocl/launch.h"
 
 #include <algorithm>
 

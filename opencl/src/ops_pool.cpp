@@ -1,8 +1,8 @@
 #include "simpli/ocl/ops_pool.h"
 
-#include "launch.h"
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
+#include "simpli/ocl/launch.h"
 
 namespace simpli::ocl {
 namespace {

@@ -1,7 +1,8 @@
+#include "simpli/ocl/ops_reshape.h"
+
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/ops_reduce.h"
-#include "simpli/ocl/ops_shape.h"
 
 namespace simpli::ocl {
 

@@ -1,10 +1,10 @@
 #include "simpli/ocl/ops_shape.h"
 
-#include "launch.h"
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
+#include "simpli/ocl/launch.h"
 #include "simpli/ocl/ops_reduce.h"
 
 #include <algorithm>

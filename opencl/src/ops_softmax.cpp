@@ -1,8 +1,8 @@
 #include "simpli/ocl/ops_softmax.h"
 
-#include "launch.h"
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
+#include "simpli/ocl/launch.h"
 #include "simpli/ocl/ops_reduce.h"
 
 #include <initializer_list>

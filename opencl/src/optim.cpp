@@ -1,7 +1,7 @@
 #include "simpli/ocl/optim.h"
 
-#include "launch.h"
 #include "simpli/error.h"
+#include "simpli/ocl/launch.h"
 
 #include <cmath>
 

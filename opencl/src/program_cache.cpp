@@ -5,6 +5,7 @@
 #include "simpli/ocl/tensor.h"
 
 #include <cstring>
+#include <sstream>
 
 namespace simpli::ocl {
 
@@ -12,6 +13,60 @@ namespace {
 std::map<std::string, const char*>& registeredSources() {
   static std::map<std::string, const char*> sources;
   return sources;
+}
+
+// An embedded or registered text by key (program stem or header file name); null when unknown.
+const char* sourceText(const std::string& key) {
+  const auto& embedded = embeddedKernelSources();
+  if (auto it = embedded.find(key); it != embedded.end())
+    return it->second;
+  if (auto it = registeredSources().find(key); it != registeredSources().end())
+    return it->second;
+  return nullptr;
+}
+
+// The header name of a line `#include "name"` (spaces allowed around '#'), else "".
+std::string quotedInclude(const std::string& line) {
+  std::size_t i = line.find_first_not_of(" \t");
+  if (i == std::string::npos || line[i] != '#')
+    return "";
+  i = line.find_first_not_of(" \t", i + 1);
+  if (i == std::string::npos || line.compare(i, 7, "include") != 0)
+    return "";
+  i = line.find_first_not_of(" \t", i + 7);
+  if (i == std::string::npos || line[i] != '"')
+    return "";
+  const std::size_t end = line.find('"', i + 1);
+  return end == std::string::npos ? "" : line.substr(i + 1, end - i - 1);
+}
+
+// Programs are embedded, so the OpenCL compiler cannot resolve `#include "x.h"` (no files at
+// run time): each such line is replaced by the embedded kernels/x.h (headers are embedded by
+// file name), then a #line directive restores the includer's line numbers for build logs.
+std::string spliceIncludes(const std::string& program, const std::string& text, int depth = 0) {
+  constexpr int kMaxDepth = 8;
+  std::istringstream in(text);
+  std::string out, line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    const std::string header = quotedInclude(line);
+    if (header.empty()) {
+      out += line + '\n';
+      continue;
+    }
+    const char* headerText = sourceText(header);
+    if (!headerText)
+      fail("OpenCL program '", program, "' includes \"", header,
+           "\", which is not embedded (no kernels/", header, "; headers must be listed in ",
+           "opencl/CMakeLists.txt or registered)");
+    if (depth >= kMaxDepth)
+      fail("OpenCL program '", program, "': includes nested deeper than ", kMaxDepth, " at \"",
+           header, "\" (an include cycle?)");
+    out += spliceIncludes(program, headerText, depth + 1);
+    out += "#line " + std::to_string(number + 1) + '\n';
+  }
+  return out;
 }
 } // namespace
 
@@ -46,13 +101,8 @@ cl_program ProgramCache::program(const std::string& programName, Dtype dtype,
   if (auto it = programs_.find(key); it != programs_.end())
     return it->second;
 
-  const auto& sources = embeddedKernelSources();
-  auto common = sources.find("common");
-  const char* bodyText = nullptr;
-  if (auto it = sources.find(programName); it != sources.end())
-    bodyText = it->second;
-  else if (auto jt = registeredSources().find(programName); jt != registeredSources().end())
-    bodyText = jt->second;
+  const char* commonText = sourceText("common");
+  const char* bodyText = sourceText(programName);
   if (!bodyText)
     fail("OpenCL program '", programName, "' (kernel ", forKernel, ") is not embedded: no kernels/",
          programName, ".cl");
@@ -60,7 +110,9 @@ cl_program ProgramCache::program(const std::string& programName, Dtype dtype,
     fail("kernel ", programName, ".", forKernel,
          ": float64 requested but the device has no cl_khr_fp64 support");
 
-  const char* parts[2] = {common != sources.end() ? common->second : "", bodyText};
+  const std::string common = spliceIncludes("common", commonText ? commonText : "");
+  const std::string body = spliceIncludes(programName, bodyText);
+  const char* parts[2] = {common.c_str(), body.c_str()};
   cl_int status = CL_SUCCESS;
   cl_program prog = clCreateProgramWithSource(context_, 2, parts, nullptr, &status);
   checkCl(status, "clCreateProgramWithSource");

@@ -1,10 +1,10 @@
 #include "simpli/ocl/tensor.h"
 
-#include "launch.h"
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
+#include "simpli/ocl/launch.h"
 
 #include <sstream>
 
@@ -19,19 +19,11 @@ std::string toString(const Shape& shape) {
   return os.str();
 }
 
-std::string toString(Dtype dtype) {
-  return dtype == Dtype::F32 ? "f32" : "f64";
-}
-
 int64_t numelOf(const Shape& shape) {
   int64_t n = 1;
   for (auto s : shape)
     n *= s;
   return n;
-}
-
-std::size_t sizeOf(Dtype dtype) {
-  return dtype == Dtype::F32 ? 4 : 8;
 }
 
 namespace {

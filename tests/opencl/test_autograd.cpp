@@ -3,8 +3,10 @@
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
+#include "simpli/ocl/launch.h"
 #include "simpli/ocl/ops_elementwise.h"
 #include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/program_cache.h"
 
 #include <gtest/gtest.h>
 
@@ -149,6 +151,42 @@ TEST(ProgramCache, BuildFailureShowsProgramKernelAndLog) {
     EXPECT_NE(what.find("CL_BUILD_PROGRAM_FAILURE"), std::string::npos) << what;
     EXPECT_GT(what.size(), 200u) << "the compiler log should be part of the message: " << what;
   }
+}
+
+// kernels/*.h are embedded by file name and spliced in at `#include "x.h"`; line numbers after
+// the include stay those of the including file; an unknown header or a cycle is a named error.
+TEST(ProgramCache, SplicesEmbeddedHeadersAndNamesUnknownOnes) {
+  ocl::registerKernelSources({
+      {"test_include_ok", "#include \"elementwise_op_codes.h\"\n"
+                          "__kernel void k(__global REAL* out) { out[0] = U_POW_SCALAR; }\n"},
+      {"test_include_bad_line", "#include \"elementwise_op_codes.h\"\n"
+                                "__kernel void k(__global REAL* out) { out[0] = @@; }\n"},
+      {"test_include_unknown", "#include \"no_such_header.h\"\n__kernel void k() {}\n"},
+      {"test_include_cycle.h", "#include \"test_include_cycle.h\"\n"},
+      {"test_include_cycle", "#include \"test_include_cycle.h\"\n__kernel void k() {}\n"},
+  });
+  Tensor out = Tensor::zeros({1});
+  ocl::Launch("test_include_ok", "k", Dtype::F32).arg(out).run(1);
+  EXPECT_EQ(out.item(), 14.0) << "U_POW_SCALAR from kernels/elementwise_op_codes.h";
+
+  auto& programs = ocl::Device::current().programs();
+  const auto message = [&](const char* program) {
+    try {
+      programs.kernel(program, "k", Dtype::F32);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string badLine = message("test_include_bad_line");
+  EXPECT_NE(badLine.find(":2:"), std::string::npos)
+      << "error on line 2 of the program: " << badLine;
+  const std::string unknown = message("test_include_unknown");
+  EXPECT_NE(unknown.find("test_include_unknown"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("\"no_such_header.h\", which is not embedded"), std::string::npos)
+      << unknown;
+  const std::string cycle = message("test_include_cycle");
+  EXPECT_NE(cycle.find("nested deeper than"), std::string::npos) << cycle;
 }
 
 TEST(Device, SelectorParsingAndBadIndices) {

@@ -1,8 +1,9 @@
 #pragma once
-// Shape ops. Tensors are contiguous, so reshape (and squeeze/unsqueeze) is free; the others
-// copy. All are differentiable and recorded on the tape; negative axes count from the end.
-// Ops whose result would have no elements throw (an empty slice is almost always a bug in the
-// caller's index arithmetic).
+// Shape ops. Tensors are contiguous, so reshape, squeeze and unsqueeze (ops_reshape.h, included
+// here) are free; the ops below copy. All are differentiable and recorded on the tape; negative
+// axes count from the end. Ops whose result would have no elements throw (an empty slice is almost
+// always a bug in the caller's index arithmetic).
+#include "simpli/ocl/ops_reshape.h"
 #include "simpli/ocl/tensor.h"
 
 #include <cstdint>
@@ -10,13 +11,6 @@
 #include <vector>
 
 namespace simpli::ocl {
-
-/// Same data, new shape of equal numel; one dimension may be -1 (inferred).
-Tensor reshape(const Tensor& x, const Shape& shape);
-/// Removes dimension `axis`, which must have size 1.
-Tensor squeeze(const Tensor& x, int axis);
-/// Inserts a dimension of size 1 before position `axis` (in [-(rank+1), rank]).
-Tensor unsqueeze(const Tensor& x, int axis);
 
 /// Joins tensors of equal rank and dtype along `axis`; all other dimensions must match.
 Tensor concat(const std::vector<Tensor>& xs, int axis);

@@ -2,6 +2,8 @@
 // Kernel programs are embedded at build time (kernels/*.cl, keyed by file stem) and built once
 // per (device, precision, options). Every program is prefixed with kernels/common.cl, which
 // defines REAL as float or double, so each kernel compiles for both precisions.
+#include "simpli/ocl/dtype.h"
+
 #include <CL/cl.h>
 
 #include <map>
@@ -9,8 +11,6 @@
 #include <tuple>
 
 namespace simpli::ocl {
-
-enum class Dtype { F32, F64 };
 
 class ProgramCache {
 public:

@@ -3,7 +3,7 @@
 // (float32 for work, float64 for reference runs of the same kernels). Copies share the
 // buffer (like a handle); ops return new tensors. Autograd: a tensor that requires gradients
 // records, for every op that consumes it, a node on the tape (see autograd.h).
-#include "simpli/ocl/program_cache.h"
+#include "simpli/ocl/dtype.h"
 
 #include <CL/cl.h>
 
@@ -19,9 +19,7 @@ using Shape = std::vector<int64_t>;
 constexpr int kMaxDims = 6;
 
 std::string toString(const Shape& shape);
-std::string toString(Dtype dtype);
 int64_t numelOf(const Shape& shape);
-std::size_t sizeOf(Dtype dtype);
 
 class Buffer;
 struct Node;
