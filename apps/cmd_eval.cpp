@@ -7,14 +7,15 @@
 #include "commands.h"
 #include "progress_bar.h"
 
-#include <CLI/CLI.hpp>
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
+#include "simpli/model/io/staged_folder.h"
 #include "simpli/model/metrics/comparison_grid.h"
 #include "simpli/model/network/loader.h"
 #include "simpli/model/training/config.h"
 #include "simpli/model/training/eval.h"
 #include "simpli/ocl/device.h"
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -126,6 +127,8 @@ void runEval(EvalCliOptions o) {
     const auto [p, d] = ocl::Device::parseSelector(o.device, "--device");
     ocl::Device::select(p, d);
   }
+  if (!o.out.empty())
+    io::checkOutputLocation(o.out, "--out", /*createParents=*/true);
   training::DataOptions data;
   if (!o.size.empty())
     training::parseWidthHeight(o.size, "--size", data.width, data.height);

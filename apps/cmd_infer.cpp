@@ -136,11 +136,12 @@ int runInfer(const InferOptions& o) {
     fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
   if (o.out.empty())
     fail("--out: an output folder is required");
-  // Before the long work: an --out that must not be replaced fails now.
+  // Before the long work: an --out that cannot be written or must not be replaced fails now.
   const io::ReplaceCheck replaceable = [](const fs::path& folder) {
     return mli::mliReplaceRefusal(folder.string(), inferOutputExtras());
   };
   io::checkReplaceable(o.out, replaceable, "--out");
+  io::checkOutputLocation(o.out, "--out", /*createParents=*/true);
 
   // Scene and source views.
   auto t0 = Clock::now();

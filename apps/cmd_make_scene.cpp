@@ -2,9 +2,10 @@
 // truth (model/synthetic/) and writes it in LLFF layout with depth maps and scene.json.
 #include "commands.h"
 
-#include <CLI/CLI.hpp>
 #include "simpli/error.h"
+#include "simpli/model/io/staged_folder.h"
 #include "simpli/model/synthetic/scene_writer.h"
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -64,6 +65,7 @@ void runMakeScene(const MakeSceneOptions& o) {
   p.antialias = o.antialias;
   parseSize(o.size, p.width, p.height);
   p.validate(); // the remaining limits (e.g. views <= 10000), named by field
+  io::checkOutputLocation(o.out, "--out");
 
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScene scene = synthetic::generateSyntheticScene(p);

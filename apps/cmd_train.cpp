@@ -7,6 +7,7 @@
 #include "stop_signals.h"
 
 #include "simpli/error.h"
+#include "simpli/model/io/staged_folder.h"
 #include "simpli/model/training/trainer.h"
 #include "simpli/ocl/device.h"
 #include <CLI/CLI.hpp>
@@ -37,6 +38,9 @@ int runTrain(const TrainCliOptions& o) {
   // First of all: a signal during start-up (device, data, network) is a stop request too, and
   // every later one is absorbed until the checkpoint is written (stop_signals.h).
   StopSignals signals;
+  // A new run folder that cannot be written fails before the device and the data are opened.
+  if (!o.resume && !o.out.empty())
+    io::checkOutputLocation(o.out, "--out", /*createParents=*/true);
   selectDevice(o.device);
   training::TrainerOptions t;
   t.data = o.data;
