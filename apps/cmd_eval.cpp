@@ -117,6 +117,8 @@ void runEval(EvalCliOptions o) {
     fail("--novel ", o.novel, ": must be >= 1");
   if (o.window < 0)
     fail("--window ", o.window, ": must be >= 0");
+  if (o.corrections < -1)
+    fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
   if (o.scenes < 1)
     fail("--scenes ", o.scenes, ": must be >= 1");
   if (o.seed < 0)

@@ -22,7 +22,7 @@ namespace {
 
 struct MakeSceneOptions {
   std::string out;
-  uint64_t seed = 0;
+  int64_t seed = 0;
   int views = 12;
   std::string size = "192x128";
   int objects = 8;
@@ -53,7 +53,9 @@ void parseSize(const std::string& text, int& width, int& height) {
 void runMakeScene(const MakeSceneOptions& o) {
   using namespace synthetic;
   synthetic::SyntheticSceneParams p;
-  p.seed = o.seed;
+  if (o.seed < 0)
+    fail("--seed ", o.seed, ": must be >= 0");
+  p.seed = static_cast<uint64_t>(o.seed);
   if (o.views < 1)
     fail("--views ", o.views, ": need at least 1 view");
   if (o.objects < 0)
