@@ -7,6 +7,7 @@
 #include "commands.h"
 
 #include "simpli/error.h"
+#include "simpli/model/io/staged_folder.h"
 #include "simpli/model/mli/files.h"
 #include <CLI/CLI.hpp>
 
@@ -68,6 +69,9 @@ void runConvert(const ConvertOptions& o) {
   if (isSameOrInside(o.output, o.input))
     fail("output ", o.output, " lies inside the input ", o.input,
          "; refusing to write into it (choose an output folder outside the input)");
+
+  // An output that cannot be written fails before the input is read.
+  io::checkOutputLocation(o.output, "output");
 
   // Refuse to replace an existing, non-empty OUT unless asked to (writeMLI itself never
   // replaces a folder that is not an MLI written by simpli).

@@ -7,14 +7,15 @@
 #include "commands.h"
 #include "progress_bar.h"
 
-#include <CLI/CLI.hpp>
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
+#include "simpli/model/io/staged_folder.h"
 #include "simpli/model/metrics/comparison_grid.h"
 #include "simpli/model/network/loader.h"
 #include "simpli/model/training/config.h"
 #include "simpli/model/training/eval.h"
 #include "simpli/ocl/device.h"
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -116,6 +117,8 @@ void runEval(EvalCliOptions o) {
     fail("--novel ", o.novel, ": must be >= 1");
   if (o.window < 0)
     fail("--window ", o.window, ": must be >= 0");
+  if (o.corrections < -1)
+    fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
   if (o.scenes < 1)
     fail("--scenes ", o.scenes, ": must be >= 1");
   if (o.seed < 0)
@@ -126,6 +129,8 @@ void runEval(EvalCliOptions o) {
     const auto [p, d] = ocl::Device::parseSelector(o.device, "--device");
     ocl::Device::select(p, d);
   }
+  if (!o.out.empty())
+    io::checkOutputLocation(o.out, "--out", /*createParents=*/true);
   training::DataOptions data;
   if (!o.size.empty())
     training::parseWidthHeight(o.size, "--size", data.width, data.height);

@@ -136,11 +136,12 @@ int runInfer(const InferOptions& o) {
     fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
   if (o.out.empty())
     fail("--out: an output folder is required");
-  // Before the long work: an --out that must not be replaced fails now.
+  // Before the long work: an --out that cannot be written or must not be replaced fails now.
   const io::ReplaceCheck replaceable = [](const fs::path& folder) {
     return mli::mliReplaceRefusal(folder.string(), inferOutputExtras());
   };
   io::checkReplaceable(o.out, replaceable, "--out");
+  io::checkOutputLocation(o.out, "--out", /*createParents=*/true);
 
   // Scene and source views.
   auto t0 = Clock::now();
@@ -288,22 +289,31 @@ void addInferCommand(CLI::App& app) {
   cmd->add_option("--config", o->config,
                   "Network config: official-4l, official-8l, a name in model/configs or a .json "
                   "file; default: the weights' \"config\" metadata");
-  cmd->add_option("--views", o->views, "Source views (scene indices, comma separated); default all")
-      ->delimiter(',');
+  CLI::Option* views = cmd->add_option("--views", o->views,
+                                       "Source views (scene indices, comma separated); default all")
+                           ->delimiter(',');
   cmd->add_option("--layers", o->layers,
                   "all (default), auto (drop layers with nothing visible) or N (check that the "
                   "network has N layers)");
   cmd->add_option("--corrections", o->corrections,
                   "MLI correction steps to run (default: all of the config's)");
-  cmd->add_option("--render-views", o->renderViews,
-                  "Scene views to render to OUT/render_KKK.png with PSNR / SSIM (comma separated)")
-      ->delimiter(',');
+  CLI::Option* renderViews =
+      cmd->add_option(
+             "--render-views", o->renderViews,
+             "Scene views to render to OUT/render_KKK.png with PSNR / SSIM (comma separated)")
+          ->delimiter(',');
   cmd->add_option("--device", o->device, "OpenCL device as platform:device (see simpli devices)");
   auto* seed =
       cmd->add_option("--init-random", o->initRandom,
                       "Testing / benchmarking only: random weights drawn with this seed (config "
                       "default official-4l), saved to OUT/random_weights.safetensors");
-  cmd->callback([o, seed] {
+  cmd->callback([o, seed, views, renderViews] {
+    // CLI11 converts an empty element ('' or "1,,2") to view 0.
+    for (const CLI::Option* option : {views, renderViews})
+      for (const std::string& value : option->results())
+        if (value.empty())
+          fail(option->get_name(), " '", value,
+               "': expected view indices (comma separated), got an empty value");
     if (seed->count() > 0 && o->initRandom < 0)
       fail("--init-random ", o->initRandom, ": the seed must be >= 0");
     if (const int code = runInfer(*o); code != 0) {

@@ -156,6 +156,8 @@ void printText(const scene::Scene& s, const scene::Camera& ref, double baseline,
 }
 
 void runInfo(const InfoOptions& o) {
+  if (o.sizeMultiple < 1)
+    fail("--size-multiple ", o.sizeMultiple, ": must be >= 1 (1: no resize)");
   scene::SceneReadOptions ro;
   ro.format = scene::parseSceneFormat(o.format);
   ro.loadImages = false;

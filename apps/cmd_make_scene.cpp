@@ -2,9 +2,10 @@
 // truth (model/synthetic/) and writes it in LLFF layout with depth maps and scene.json.
 #include "commands.h"
 
-#include <CLI/CLI.hpp>
 #include "simpli/error.h"
+#include "simpli/model/io/staged_folder.h"
 #include "simpli/model/synthetic/scene_writer.h"
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -21,7 +22,7 @@ namespace {
 
 struct MakeSceneOptions {
   std::string out;
-  uint64_t seed = 0;
+  int64_t seed = 0;
   int views = 12;
   std::string size = "192x128";
   int objects = 8;
@@ -52,7 +53,9 @@ void parseSize(const std::string& text, int& width, int& height) {
 void runMakeScene(const MakeSceneOptions& o) {
   using namespace synthetic;
   synthetic::SyntheticSceneParams p;
-  p.seed = o.seed;
+  if (o.seed < 0)
+    fail("--seed ", o.seed, ": must be >= 0");
+  p.seed = static_cast<uint64_t>(o.seed);
   if (o.views < 1)
     fail("--views ", o.views, ": need at least 1 view");
   if (o.objects < 0)
@@ -64,6 +67,7 @@ void runMakeScene(const MakeSceneOptions& o) {
   p.antialias = o.antialias;
   parseSize(o.size, p.width, p.height);
   p.validate(); // the remaining limits (e.g. views <= 10000), named by field
+  io::checkOutputLocation(o.out, "--out");
 
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScene scene = synthetic::generateSyntheticScene(p);

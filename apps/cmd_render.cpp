@@ -11,23 +11,34 @@
 // Per frame i, DIR gets rgb_NNN.png (8-bit RGB, background black) and depth_NNN.png (16-bit
 // grey: round(z * depth-scale) of the composited target-camera z, 0 where nothing is hit,
 // clamped to 65535; default scale 1000, i.e. millimetres when the MLI is in metres, the
-// convention of datasets_small), plus render.json with the depth scale and each frame's camera
-// (reference-format extrinsic_re / intrinsics_re / frame_size). Every file appears atomically
-// (temporary + rename).
+// convention of datasets_small), plus render.json with the depth scale, each frame's camera
+// (reference-format extrinsic_re / intrinsics_re / frame_size) and "written_by": "simpli render".
+//
+// DIR is written as a whole (io/staged_folder.h): the frames and render.json go into a hidden
+// staging sibling that replaces DIR in one step, so a failure (a full disk) or a kill leaves the
+// old complete DIR or the new one, never a mix. An existing DIR is replaced only when it holds
+// nothing but an earlier `simpli render` output (renderReplaceRefusal); anything else is refused
+// before any work. SIGINT / SIGTERM stop after the current frame, write nothing and exit with
+// 130 / 143 (stop_signals.h).
 #include "commands.h"
+#include "stop_signals.h"
 
-#include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include "simpli/error.h"
+#include "simpli/model/io/staged_folder.h"
 #include "simpli/model/mli/files.h"
 #include "simpli/model/raster/render_mli.h"
 #include "simpli/model/scene/scene.h"
 #include "simpli/model/scene/trajectory.h"
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -49,7 +60,15 @@ struct RenderOptions {
   bool perspectiveCorrect = false;
   double depthScale = 1000.0;
   int maxFragments = 16;
+  bool framesGiven = false; ///< --frames was on the command line
 };
+
+/// Most frames one render writes (two files each, all staged before the switch).
+constexpr int kMaxRenderFrames = 10000;
+/// Most pixels x kept fragments per frame: the rasterizer keeps maxFragments fragments per pixel
+/// on the device (about 6 bytes x 16 per pixel), so this bounds device memory to about 2 GiB;
+/// 4096 x 4096 at the default 16 fragments.
+constexpr long long kMaxRenderFragments = 4096LL * 4096LL * 16;
 
 void parseRenderSize(const std::string& text, int& width, int& height) {
   std::smatch m;
@@ -69,28 +88,24 @@ void parseRenderSize(const std::string& text, int& width, int& height) {
   height = int(h);
 }
 
-// Writes `bytes` through a temporary sibling renamed into place.
-void writeAtomically(const fs::path& path, const std::vector<uchar>& bytes) {
-  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp");
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!f)
-      fail("cannot write ", tmp.string());
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    fail("cannot rename ", tmp.string(), " to ", path.string());
-  }
+/// render.json's mark of a folder written by `simpli render`.
+constexpr const char* kWrittenByKey = "written_by";
+constexpr const char* kWrittenByValue = "simpli render";
+
+// Writes `bytes` to `path` (inside the staging folder: atomicity comes from the folder).
+void writeFile(const fs::path& path, const std::vector<uchar>& bytes) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  f.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  f.close();
+  if (!f)
+    fail("--out: cannot write ", path.string(), " (", std::strerror(errno), ")");
 }
 
 void writePng(const fs::path& path, const cv::Mat& image) {
   std::vector<uchar> bytes;
   if (!cv::imencode(".png", image, bytes))
     fail("cannot encode ", path.string(), " as PNG");
-  writeAtomically(path, bytes);
+  writeFile(path, bytes);
 }
 
 std::string frameName(const char* prefix, int i) {
@@ -99,20 +114,43 @@ std::string frameName(const char* prefix, int i) {
   return buf;
 }
 
-// Removes rgb_NNN.png / depth_NNN.png frames with NNN >= frames, left by an earlier, longer
-// render into the same folder (so the folder matches render.json). Other files are kept.
-int removeStaleFrames(const fs::path& out, size_t frames) {
-  static const std::regex pattern(R"((rgb|depth)_(\d{1,9})\.png)");
-  int removed = 0;
+bool isFrameName(const std::string& name) {
+  static const std::regex pattern(R"((rgb|depth)_\d{3,10}\.png)");
+  return std::regex_match(name, pattern);
+}
+
+/// Why the existing, non-empty folder `path` must not be replaced by a new render; "" when it may:
+/// its render.json has the mark of `simpli render`, and it holds nothing but render.json and
+/// rgb_NNN.png / depth_NNN.png frames (the rule of mli::mliReplaceRefusal for renders).
+std::string renderReplaceRefusal(const std::string& path) {
+  const fs::path folder(path), meta = folder / "render.json";
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(out, ec)) {
-    std::smatch m;
-    const std::string name = entry.path().filename().string();
-    if (std::regex_match(name, m, pattern) && std::stoull(m[2].str()) >= frames &&
-        fs::remove(entry.path(), ec))
-      ++removed;
+  if (!fs::is_regular_file(fs::symlink_status(meta, ec)))
+    return "it is not a simpli render (no render.json)";
+  nlohmann::json root;
+  try {
+    std::ifstream in(meta, std::ios::binary);
+    root = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    return std::string("its render.json is not valid JSON (") + e.what() + ")";
   }
-  return removed;
+  const auto mark = root.is_object() ? root.find(kWrittenByKey) : root.end();
+  if (!root.is_object() || mark == root.end() || !mark->is_string() ||
+      mark->get<std::string>() != kWrittenByValue)
+    return std::string("its render.json has no \"") + kWrittenByKey + "\": \"" + kWrittenByValue +
+           "\" (not a render written by simpli)";
+  fs::directory_iterator it(folder, ec), end;
+  if (ec)
+    return "its contents cannot be listed (" + ec.message() + ")";
+  for (; it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (fs::is_regular_file(it->symlink_status(ec)) && (name == "render.json" || isFrameName(name)))
+      continue;
+    return "it holds \"" + name + "\", which is not a file of the render simpli wrote there";
+  }
+  if (ec)
+    return "its contents cannot be listed (" + ec.message() + ")";
+  return "";
 }
 
 nlohmann::json cameraJson(const scene::Camera& c) {
@@ -133,7 +171,17 @@ nlohmann::json cameraJson(const scene::Camera& c) {
   return j;
 }
 
-void runRender(const RenderOptions& o) {
+int cancelled(const std::string& out) {
+  const int sig = stopSignal();
+  std::fprintf(stderr, "simpli render: %s received; cancelled, nothing written to %s\n",
+               sig == SIGTERM ? "SIGTERM" : "SIGINT", out.c_str());
+  return 128 + sig;
+}
+
+int runRender(const RenderOptions& o) {
+  // Before anything else (stop_signals.h), and until the output is committed: a signal stops
+  // the render after the current frame, and nothing is written.
+  StopSignals signals;
   // Options first, so that nothing is read or written for a bad command line.
   if (o.view >= 0 && o.scene.empty())
     fail("--view ", o.view, " needs --scene");
@@ -141,8 +189,13 @@ void runRender(const RenderOptions& o) {
     fail("--view and --trajectory exclude each other");
   if (!o.scene.empty() && o.view < 0 && o.trajectory.empty())
     fail("--scene ", o.scene, " needs --view K or --trajectory KIND");
+  if (o.framesGiven && o.trajectory.empty())
+    fail("--frames ", o.frames, " needs --trajectory KIND (without it, render draws one frame)");
   if (o.frames < 1)
     fail("--frames ", o.frames, ": need at least 1");
+  if (o.frames > kMaxRenderFrames)
+    fail("--frames ", o.frames, ": more than the limit of ", kMaxRenderFrames,
+         " frames per render (render longer paths in parts)");
   if (!(o.depthScale > 0 && std::isfinite(o.depthScale)))
     fail("--depth-scale ", o.depthScale, ": must be finite and > 0");
   if (o.maxFragments < 1 || o.maxFragments > 64)
@@ -159,13 +212,13 @@ void runRender(const RenderOptions& o) {
     }
     traj.frames = o.frames;
   }
-  const fs::path out = o.out;
-  std::error_code ec;
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
-    fail("--out ", o.out, " exists and is not a folder");
-  if (!out.parent_path().empty() && !fs::is_directory(out.parent_path(), ec) &&
-      !fs::exists(out, ec))
-    fail("--out ", o.out, ": parent folder ", out.parent_path().string(), " does not exist");
+  // The output before any work: a path that cannot be written, or a folder that is not an
+  // earlier render, fails now.
+  const io::ReplaceCheck replaceable = [](const fs::path& folder) {
+    return renderReplaceRefusal(folder.string());
+  };
+  io::checkReplaceable(o.out, replaceable, "--out");
+  io::checkOutputLocation(o.out, "--out");
 
   const mli::MLI mli = mli::readMLI(o.mli);
   std::vector<scene::Camera> cameras;
@@ -198,10 +251,18 @@ void runRender(const RenderOptions& o) {
       c.width = width;
       c.height = height;
     }
+  // The size is known now (--size or the camera's): bound the rasterizer's memory before it runs.
+  const long long fragments =
+      static_cast<long long>(cameras[0].width) * cameras[0].height * o.maxFragments;
+  if (fragments > kMaxRenderFragments)
+    fail("--size ", cameras[0].width, "x", cameras[0].height, " with --max-fragments ",
+         o.maxFragments, ": ", fragments, " fragments per frame, more than the limit of ",
+         kMaxRenderFragments, " (4096 x 4096 x 16, about 2 GiB of device memory)");
 
-  fs::create_directories(out, ec);
-  if (!fs::is_directory(out, ec))
-    fail("--out ", o.out, ": cannot create the folder");
+  std::error_code ec;
+  const bool replacing = fs::is_directory(o.out, ec) && !fs::is_empty(o.out, ec);
+  io::StagedFolder staged(o.out, replaceable, {"--out"});
+  const fs::path& out = staged.path();
 
   raster::RasterSettings settings;
   settings.maxFragments = o.maxFragments;
@@ -214,8 +275,11 @@ void runRender(const RenderOptions& o) {
   meta["depth_note"] = "depth_NNN.png: 16-bit, target-camera z = value * depth_scale (MLI "
                        "units), 0 = no surface";
   meta["frames"] = nlohmann::json::array();
+  meta[kWrittenByKey] = kWrittenByValue;
   long long clamped = 0;
   for (size_t i = 0; i < cameras.size(); ++i) {
+    if (stopSignal() != 0)
+      return cancelled(o.out); // the staging folder goes with `staged`
     const scene::Camera& cam = cameras[i];
     const raster::RenderedLayers r = raster::renderMLI(mli, cam, settings);
     const std::vector<float> colour = r.colour.toVectorF32();
@@ -243,15 +307,19 @@ void runRender(const RenderOptions& o) {
     meta["frames"].push_back(f);
   }
   const std::string text = meta.dump(2) + "\n";
-  writeAtomically(out / "render.json", std::vector<uchar>(text.begin(), text.end()));
-  if (const int stale = removeStaleFrames(out, cameras.size()))
-    std::printf("removed %d frame file(s) of an earlier render from %s\n", stale, o.out.c_str());
+  writeFile(out / "render.json", std::vector<uchar>(text.begin(), text.end()));
+  if (stopSignal() != 0)
+    return cancelled(o.out);
+  staged.commit();
+  if (replacing)
+    std::printf("replaced the earlier render in %s\n", o.out.c_str());
   std::printf("rendered %zu frame(s) of %s (%d layers) at %d x %d -> %s\n", cameras.size(),
               o.mli.c_str(), mli.numLayers(), cameras[0].width, cameras[0].height, o.out.c_str());
   if (clamped > 0)
     std::printf("note: %lld depth pixel(s) exceeded 65535 / depth-scale and were clamped; use a "
                 "smaller --depth-scale\n",
                 clamped);
+  return 0;
 }
 
 } // namespace
@@ -267,7 +335,9 @@ void addRenderCommand(CLI::App& app) {
                   "Scene folder (LLFF, COLMAP, RealEstate10K) for --view or trajectory defaults");
   cmd->add_option("--view", opts->view, "Render the camera of this scene view (0-based)");
   cmd->add_option("--trajectory", opts->trajectory, "Camera path: spiral or orbit");
-  cmd->add_option("--frames", opts->frames, "Frames of the trajectory")->capture_default_str();
+  CLI::Option* frames =
+      cmd->add_option("--frames", opts->frames, "Frames of the trajectory (1..10000)")
+          ->capture_default_str();
   cmd->add_option("--size", opts->size, "Output size WIDTHxHEIGHT (default: the camera's)");
   cmd->add_flag("--perspective-correct", opts->perspectiveCorrect,
                 "Perspective-correct interpolation (as OpenGL); default screen-linear, as the "
@@ -277,8 +347,17 @@ void addRenderCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-fragments", opts->maxFragments, "Fragments kept per pixel (1..64)")
       ->capture_default_str();
-  cmd->add_option("--out", opts->out, "Output folder (created)")->required();
-  cmd->callback([opts] { runRender(*opts); });
+  cmd->add_option("--out", opts->out,
+                  "Output folder, written as a whole; an existing one is replaced only if it "
+                  "holds nothing but an earlier simpli render output")
+      ->required();
+  cmd->callback([opts, frames] {
+    opts->framesGiven = frames->count() > 0;
+    if (const int code = runRender(*opts); code != 0) {
+      std::fflush(nullptr);
+      std::exit(code);
+    }
+  });
 }
 
 } // namespace simpli::app

@@ -7,6 +7,7 @@
 #include "stop_signals.h"
 
 #include "simpli/error.h"
+#include "simpli/model/io/staged_folder.h"
 #include "simpli/model/training/trainer.h"
 #include "simpli/ocl/device.h"
 #include <CLI/CLI.hpp>
@@ -37,6 +38,9 @@ int runTrain(const TrainCliOptions& o) {
   // First of all: a signal during start-up (device, data, network) is a stop request too, and
   // every later one is absorbed until the checkpoint is written (stop_signals.h).
   StopSignals signals;
+  // A new run folder that cannot be written fails before the device and the data are opened.
+  if (!o.resume && !o.out.empty())
+    io::checkOutputLocation(o.out, "--out", /*createParents=*/true);
   selectDevice(o.device);
   training::TrainerOptions t;
   t.data = o.data;
@@ -113,7 +117,8 @@ void addTrainCommand(CLI::App& app) {
   cmd->add_option("--out", opts->out, "Run folder (new, or the run to continue with --resume)")
       ->required();
   cmd->add_flag("--resume", opts->resume, "Continue the run in --out from its last checkpoint");
-  cmd->add_option("--steps", opts->steps, "Total steps of the run (default: the config's)");
+  CLI::Option* steps =
+      cmd->add_option("--steps", opts->steps, "Total steps of the run (default: the config's)");
   cmd->add_option("--checkpoint-every", opts->checkpointEvery,
                   "Steps between checkpoints (default: the config's)");
   cmd->add_option("--vgg", opts->vgg,
@@ -122,7 +127,10 @@ void addTrainCommand(CLI::App& app) {
                   "Resize the images to WIDTHxHEIGHT, e.g. 192x128 (multiples of 16)");
   cmd->add_option("--seed", opts->seed, "Seed of the network initialisation and sampling");
   cmd->add_option("--device", opts->device, "OpenCL device p:d (see `simpli devices`)");
-  cmd->callback([opts] {
+  cmd->callback([opts, steps] {
+    // -1 is the internal "the config's"; on the command line every negative is wrong.
+    if (steps->count() > 0 && opts->steps < 0)
+      fail("--steps ", opts->steps, ": must be >= 0");
     const int code = runTrain(*opts);
     if (code != 0) {
       std::fflush(nullptr);

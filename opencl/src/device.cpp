@@ -110,11 +110,20 @@ std::vector<DeviceInfo> listDevices() {
 }
 
 std::pair<int, int> Device::parseSelector(const std::string& text, const std::string& origin) {
-  int p = -1, d = -1;
-  char extra = 0;
-  if (std::sscanf(text.c_str(), "%d:%d%c", &p, &d, &extra) != 2 || p < 0 || d < 0)
-    fail(origin, ": expected \"platform:device\" (e.g. 0:0), got \"", text, "\"");
-  return {p, d};
+  // Two plain decimal indices; at most kMaxSelectorDigits digits each, so that no value
+  // overflows (sscanf's %d is undefined beyond INT_MAX: 99999999999 became 1215752191).
+  constexpr std::size_t kMaxSelectorDigits = 4;
+  const std::size_t colon = text.find(':');
+  auto index = [&](const std::string& digits) {
+    if (digits.empty() || digits.size() > kMaxSelectorDigits ||
+        digits.find_first_not_of("0123456789") != std::string::npos)
+      fail(origin, ": expected \"platform:device\" with indices 0..9999 (e.g. 0:0), got \"", text,
+           "\"");
+    return std::stoi(digits);
+  };
+  if (colon == std::string::npos)
+    index("");
+  return {index(text.substr(0, colon)), index(text.substr(colon + 1))};
 }
 
 Device& Device::current() {

@@ -2,6 +2,7 @@
 
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
+#include "simpli/model/io/image_header.h"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -96,6 +97,12 @@ Image readImage(const std::string& path, int sizeMultiple, ImageSize* originalSi
   const std::vector<unsigned char> bytes = readFileBytes(path, "image file");
   if (bytes.empty())
     fail("image file '", path, "' is empty");
+  // The declared size before anything is decoded (io/image_header.h).
+  if (const auto header = parseImageHeader(bytes.data(), bytes.size());
+      header && header->width * header->height > kMaxImagePixels)
+    fail("image file '", path, "': its ", header->format, " header declares ", header->width, " x ",
+         header->height, " pixels, more than the limit of ", kMaxImagePixels,
+         " (8192 x 8192) that keeps a corrupt header from exhausting memory");
   cv::Mat raw;
   try {
     raw = cv::imdecode(bytes, cv::IMREAD_UNCHANGED | cv::IMREAD_IGNORE_ORIENTATION);

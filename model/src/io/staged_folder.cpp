@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace simpli::io {
@@ -138,6 +139,50 @@ bool checkTarget(const fs::path& target, const ReplaceCheck& replaceable, const 
 void checkReplaceable(const std::string& target, const ReplaceCheck& replaceable,
                       const std::string& what) {
   checkTarget(splitTarget(target, what).target, replaceable, what);
+}
+
+namespace {
+
+/// Why no folder can be created in the folder `dir` ("" when one can): creates and removes a
+/// hidden probe folder.
+std::string cannotCreateIn(const fs::path& dir) {
+  const fs::path probe = dir / (".simpli-probe-" + std::to_string(::getpid()));
+  if (::mkdir(probe.c_str(), 0700) != 0) {
+    const int err = errno;
+    if (err != EEXIST)
+      return "cannot create a folder in " + dir.string() + " (" + errnoText(err) + ")";
+  }
+  ::rmdir(probe.c_str());
+  return "";
+}
+
+} // namespace
+
+void checkOutputLocation(const std::string& requested, const std::string& what,
+                         bool createParents) {
+  const TargetPath t = splitTarget(requested, what);
+  const std::string head = what + " " + requested + ": ";
+  std::error_code ec;
+  const fs::file_status target = fs::status(t.target, ec);
+  if (fs::exists(target) && !fs::is_directory(target))
+    fail(head, "it exists and is not a folder");
+  fs::path dir = t.parent;
+  while (createParents && !fs::exists(fs::status(dir, ec))) {
+    const fs::path up = dir.parent_path();
+    if (up == dir)
+      break;
+    dir = up.empty() ? fs::path(".") : up;
+  }
+  const fs::file_status parent = fs::status(dir, ec);
+  if (!fs::exists(parent))
+    fail(head, "parent folder ", dir.string(), " does not exist");
+  if (!fs::is_directory(parent))
+    fail(head, dir.string(), " is a file, not a folder");
+  std::string why = cannotCreateIn(dir);
+  if (why.empty() && fs::is_directory(target))
+    why = cannotCreateIn(t.target);
+  if (!why.empty())
+    fail(head, why);
 }
 
 int recoverStagedFolders(const std::string& requested) {

@@ -26,6 +26,10 @@ MLIFormat detectMLIFormat(const std::string& path) {
 MLI readMLI(const std::string& path, const MLIReadOptions& options) {
   const mli::Meta meta = mli::readMeta(path);
   const mli::fs::path folder(path);
+  // Every layer file is there and of the right size before memory for the layers is taken.
+  for (const std::string& name : mliFileNames(meta.format, static_cast<int>(meta.ranges.size())))
+    if (name != "meta.json")
+      checkLayerFile(folder / name, meta.height, meta.width);
   MLI mli = meta.format == MLIFormat::Lossless ? mli::readLosslessLayers(folder, meta)
                                                : mli::readJpegLayers(folder, meta, options);
   // Everything was checked file by file; this guards the invariant for the caller.

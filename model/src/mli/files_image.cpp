@@ -3,14 +3,25 @@
 
 #include "mli/files_internal.h"
 #include "simpli/error.h"
+#include "simpli/model/io/image_header.h"
 
 namespace simpli::mli {
 
-cv::Mat readLayerImage(const fs::path& file, int imreadFlags, int H, int W) {
+void checkLayerFile(const fs::path& file, int H, int W) {
   const std::string name = file.string();
   std::error_code ec;
   if (!fs::is_regular_file(file, ec))
     fail(name, ": missing layer file");
+  // The declared size before the pixels are decoded: a wrong or huge one is refused unread.
+  if (const auto header = io::readImageHeader(name);
+      header && (header->width != W || header->height != H))
+    fail(name, ": image is ", header->width, " x ", header->height, " (W x H) by its ",
+         header->format, " header, but meta.json frame_size is [H, W] = [", H, ", ", W, "]");
+}
+
+cv::Mat readLayerImage(const fs::path& file, int imreadFlags, int H, int W) {
+  const std::string name = file.string();
+  checkLayerFile(file, H, W);
   cv::Mat image;
   try {
     image = cv::imread(name, imreadFlags);

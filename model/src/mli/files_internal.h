@@ -52,6 +52,10 @@ void writeMeta(const fs::path& folder, const MLI& mli,
 /// [min, max] of a layer's depth.
 std::pair<double, double> depthRange(const MLILayer& layer);
 
+/// Throws simpli::Error naming `file` unless it exists and its header (when recognised) declares
+/// W x H (io/image_header.h): checked for every layer file before any layer is allocated.
+void checkLayerFile(const fs::path& file, int H, int W);
+
 /// cv::imread with checks: the file exists, decodes, and is H x W; errors name the file.
 cv::Mat readLayerImage(const fs::path& file, int imreadFlags, int H, int W);
 

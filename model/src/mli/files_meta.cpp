@@ -187,6 +187,9 @@ Meta readMeta(const fs::path& folder) {
     if (r[0] > r[1])
       fail(file, ": \"", it.key(), "\" = [", r[0], ", ", r[1], "]: lo > hi");
     ranges[k] = {r[0], r[1]};
+    if (k >= kMaxMLILayers || static_cast<int>(ranges.size()) > kMaxMLILayers)
+      fail(file, ": key \"", it.key(), "\": more than the limit of ", kMaxMLILayers,
+           " layers (kMaxMLILayers, which keeps a corrupt meta.json from exhausting memory)");
   }
   if (ranges.empty())
     fail(file, ": no layer_depth_XX keys (an MLI has at least one layer)");
@@ -197,6 +200,11 @@ Meta readMeta(const fs::path& folder) {
            "; they must run from 00 without gaps)");
   for (const auto& [k, r] : ranges)
     meta.ranges.push_back(r);
+  const long long texels = static_cast<long long>(meta.ranges.size()) * meta.height * meta.width;
+  if (texels > kMaxMLITexels)
+    fail(file, ": \"frame_size\" [", meta.height, ", ", meta.width, "] with ", meta.ranges.size(),
+         " layer(s) is ", texels, " texels, more than the limit of ", kMaxMLITexels,
+         " (kMaxMLITexels, 1.25 GiB in memory; it keeps a corrupt size from exhausting memory)");
 
   if (meta.format == MLIFormat::Lossless) {
     const int L = integerIn(requireKey(root, "num_layers", file), "\"num_layers\"", 1, 1e6, file);

@@ -1,6 +1,7 @@
 // Bad MLI folders and failed writes: every error names the file and the field or value, and a
 // failed write leaves nothing behind.
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -176,6 +177,33 @@ TEST_F(MLIReadErrors, FrameSizeNotMatchingTheImages) {
   setMeta(m);
   expectReadError(
       {(scene() / "layer_00.jpg").string(), "image is 24 x 16", "frame_size is [H, W] = [24, 16]"});
+}
+
+// Sizes and counts are checked against named limits before anything is allocated: a corrupt
+// frame_size or thousands of layer keys are refused, never turned into gigabytes.
+TEST_F(MLIReadErrors, SizesAboveTheLimits) {
+  for (const int side : {20000, 65535}) {
+    json m = meta();
+    m["frame_size"] = {side, side};
+    setMeta(m);
+    expectReadError({metaFile(), "\"frame_size\" [" + std::to_string(side), "kMaxMLITexels"});
+  }
+  json m = meta();
+  for (int k = 0; k < 20000; ++k) {
+    char key[32];
+    std::snprintf(key, sizeof key, "layer_depth_%02d", k);
+    m[key] = {1.0, 2.0};
+  }
+  setMeta(m);
+  expectReadError({metaFile(), "key \"layer_depth_", "limit of 64 layers", "kMaxMLILayers"});
+  // Within the limits but with a layer file missing: refused before the layers are allocated.
+  m = meta();
+  m["frame_size"] = {4096, 4096};
+  setMeta(m);
+  expectReadError({(scene() / "layer_00.jpg").string(),
+                   "image is 24 x 16 (W x H) by its JPEG "
+                   "header",
+                   "frame_size is [H, W] = [4096, 4096]"});
 }
 
 TEST(MLILosslessReadErrors, BadFilesAndMeta) {

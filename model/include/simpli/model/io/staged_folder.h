@@ -31,6 +31,15 @@ using ReplaceCheck = std::function<std::string(const std::filesystem::path& fold
 void checkReplaceable(const std::string& target, const ReplaceCheck& replaceable,
                       const std::string& what);
 
+/// Throws simpli::Error ("<what> <target>: <why>") unless a folder can be written at `target`:
+/// the nearest existing ancestor of `target` (its parent when `createParents` is false, which must
+/// then exist) is a folder, not a file, and a folder can be created in it (probed by creating and
+/// removing a hidden folder: catches permissions, read-only file systems and pseudo file systems
+/// alike). `target` itself, when it exists, must be a folder. Commands call it before any long
+/// work, so that a bad --out fails at once with a named error.
+void checkOutputLocation(const std::string& target, const std::string& what,
+                         bool createParents = false);
+
 struct StagedFolderOptions {
   /// Prefix of error messages ("writeMLI", "--out").
   std::string what = "output folder";

@@ -33,6 +33,13 @@ namespace simpli::mli {
 
 enum class MLIFormat { Jpeg, Lossless };
 
+/// Limits readMLI checks in meta.json before it allocates anything: at most kMaxMLILayers
+/// layers (the reference's configs have 4 and 8), and at most kMaxMLITexels texels over all
+/// layers (layers x H x W; 20 bytes each in memory, so at most 1.25 GiB), so that a corrupt
+/// frame_size or thousands of layer_depth_XX keys are refused instead of exhausting memory.
+inline constexpr int kMaxMLILayers = 64;
+inline constexpr long long kMaxMLITexels = 1LL << 26;
+
 /// How 8-bit depth codes q of the Jpeg form become depths.
 enum class MLIDepthDecoding {
   /// D = lo + q (hi - lo)/255, as the official web viewer decodes (maps q = 0..255 onto exactly
