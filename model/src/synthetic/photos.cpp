@@ -88,27 +88,27 @@ const std::vector<DebianPhoto>& debianPhotos() {
        kMateLicence},
       {kMate, "/usr/share/backgrounds/mate/nature/YellowFlower.jpg", "Charles Barbin",
        kMateLicence},
-      {kPlasma, "/usr/share/wallpapers/BytheWater/contents/images/1280x800.jpg", "Maciej Wiklo",
+      {kPlasma, "/usr/share/wallpapers/BytheWater/contents/images/2560x1600.jpg", "Maciej Wiklo",
        kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/ColdRipple/contents/images/1280x800.jpg",
+      {kPlasma, "/usr/share/wallpapers/ColdRipple/contents/images/2560x1600.jpg",
        "Risto Saukonpaa", kPlasmaLicence},
       {kPlasma, "/usr/share/wallpapers/ColorfulCups/contents/images/2560x1600.jpg",
        "Dmitri Popov", kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/DarkestHour/contents/images/1280x800.jpg",
+      {kPlasma, "/usr/share/wallpapers/DarkestHour/contents/images/2560x1600.jpg",
        "Risto Saukonpaa", kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/EveningGlow/contents/images/1280x800.jpg", "Ian Hex",
+      {kPlasma, "/usr/share/wallpapers/EveningGlow/contents/images/2560x1600.jpg", "Ian Hex",
        kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/FallenLeaf/contents/images/1280x800.jpg",
+      {kPlasma, "/usr/share/wallpapers/FallenLeaf/contents/images/2560x1600.jpg",
        "Martin Klapetek", kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/Grey/contents/images/1280x800.jpg", "Sigi Sagi",
+      {kPlasma, "/usr/share/wallpapers/Grey/contents/images/2560x1600.jpg", "Sigi Sagi",
        kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/Kite/contents/images/1280x800.jpg", "Risto Saukonpaa",
+      {kPlasma, "/usr/share/wallpapers/Kite/contents/images/2560x1600.jpg", "Risto Saukonpaa",
        kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/OneStandsOut/contents/images/1280x800.jpg",
+      {kPlasma, "/usr/share/wallpapers/OneStandsOut/contents/images/2560x1600.jpg",
        "Risto Saukonpaa", kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/Path/contents/images/1280x800.jpg", "Risto Saukonpaa",
+      {kPlasma, "/usr/share/wallpapers/Path/contents/images/2560x1600.jpg", "Risto Saukonpaa",
        kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/summer_1am/contents/images/1280x800.jpg",
+      {kPlasma, "/usr/share/wallpapers/summer_1am/contents/images/2560x1600.jpg",
        "Risto Saukonpaa", kPlasmaLicence},
   };
   return photos;
@@ -159,10 +159,14 @@ std::shared_ptr<const PhotoLibrary> PhotoLibrary::load(const std::vector<std::st
   lib->maxSize_ = maxSize;
   lib->source_ = source.empty() ? std::to_string(files.size()) + " files" : source;
   for (const std::string& file : files) {
-    cv::Mat probe = cv::imread(file, cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
-    if (probe.empty() || probe.cols < 1 || probe.rows < 1)
+    // JPEG decoding can halve the size on the fly at a quarter of the cost: take that when
+    // the half size still reaches maxSize, else decode in full.
+    const int flags = cv::IMREAD_IGNORE_ORIENTATION;
+    cv::Mat bgr = cv::imread(file, cv::IMREAD_REDUCED_COLOR_2 | flags);
+    if (bgr.empty() || std::max(bgr.cols, bgr.rows) < maxSize)
+      bgr = cv::imread(file, cv::IMREAD_COLOR | flags);
+    if (bgr.empty() || bgr.cols < 1 || bgr.rows < 1)
       fail("photo '", file, "': cannot be read as an image");
-    cv::Mat bgr = probe;
     const int longer = std::max(bgr.cols, bgr.rows);
     if (longer > maxSize) {
       const double f = double(maxSize) / double(longer);
