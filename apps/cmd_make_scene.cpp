@@ -77,10 +77,10 @@ void runMakeScene(const MakeSceneOptions& o) {
   if (p.textures == synthetic::TextureSet::Photo) {
     p.photos = synthetic::PhotoLibrary::cached(o.photoDir);
     if (p.photos->empty())
-      std::fprintf(stderr, "note: no photographs found in %s; using procedural textures (%s)\n",
-                   o.photoDir.empty() ? "the Debian photo packages" : ("'" + o.photoDir + "'").c_str(),
-                   o.photoDir.empty() ? synthetic::photoInstallHint().c_str()
-                                      : "add .jpg or .png files");
+      std::fprintf(
+          stderr, "note: no photographs found in %s; using procedural textures (%s)\n",
+          o.photoDir.empty() ? "the Debian photo packages" : ("'" + o.photoDir + "'").c_str(),
+          o.photoDir.empty() ? synthetic::photoInstallHint().c_str() : "add .jpg or .png files");
   }
   const synthetic::SyntheticScene scene = synthetic::generateSyntheticScene(p);
   const std::vector<synthetic::RenderedView> views = synthetic::renderViews(scene);
@@ -121,8 +121,8 @@ void runMakeScene(const MakeSceneOptions& o) {
     int photoSurfaces = scene.background.texture.pattern == synthetic::Pattern::Photo;
     for (const synthetic::Shape& s : scene.objects)
       photoSurfaces += s.texture.pattern == synthetic::Pattern::Photo;
-    std::printf("  photo textures on %d of %d surfaces (%s)\n", photoSurfaces,
-                scene.shapeCount(), p.photos->describe().c_str());
+    std::printf("  photo textures on %d of %d surfaces (%s)\n", photoSurfaces, scene.shapeCount(),
+                p.photos->describe().c_str());
   }
   std::printf("  near / far %.4g .. %.4g scene units; depth/NNN.png = z / %g; %.1f s\n", nearB,
               farB, written.depthScale, seconds);

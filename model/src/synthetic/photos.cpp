@@ -39,7 +39,8 @@ constexpr const char* kPlasmaLicence =
 
 std::string lowerExtension(const fs::path& p) {
   std::string e = p.extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(e.begin(), e.end(), e.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   return e;
 }
 
@@ -70,8 +71,8 @@ Eigen::Vector3d Photo::sample(double x, double y) const {
 const std::vector<DebianPhoto>& debianPhotos() {
   static const std::vector<DebianPhoto> photos{
       {kMate, "/usr/share/backgrounds/mate/nature/Aqua.jpg", "Charles Barbin", kMateLicence},
-      {kMate, "/usr/share/backgrounds/mate/nature/Blinds.jpg",
-       "Lennart Poettering, Andrea Cimitan", kMateLicence},
+      {kMate, "/usr/share/backgrounds/mate/nature/Blinds.jpg", "Lennart Poettering, Andrea Cimitan",
+       kMateLicence},
       {kMate, "/usr/share/backgrounds/mate/nature/Dune.jpg", "Marco Cogoni, Hylke Bons",
        kMateLicence},
       {kMate, "/usr/share/backgrounds/mate/nature/FreshFlower.jpg", "Jens Ansorg", kMateLicence},
@@ -90,16 +91,16 @@ const std::vector<DebianPhoto>& debianPhotos() {
        kMateLicence},
       {kPlasma, "/usr/share/wallpapers/BytheWater/contents/images/2560x1600.jpg", "Maciej Wiklo",
        kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/ColdRipple/contents/images/2560x1600.jpg",
-       "Risto Saukonpaa", kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/ColorfulCups/contents/images/2560x1600.jpg",
-       "Dmitri Popov", kPlasmaLicence},
+      {kPlasma, "/usr/share/wallpapers/ColdRipple/contents/images/2560x1600.jpg", "Risto Saukonpaa",
+       kPlasmaLicence},
+      {kPlasma, "/usr/share/wallpapers/ColorfulCups/contents/images/2560x1600.jpg", "Dmitri Popov",
+       kPlasmaLicence},
       {kPlasma, "/usr/share/wallpapers/DarkestHour/contents/images/2560x1600.jpg",
        "Risto Saukonpaa", kPlasmaLicence},
       {kPlasma, "/usr/share/wallpapers/EveningGlow/contents/images/2560x1600.jpg", "Ian Hex",
        kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/FallenLeaf/contents/images/2560x1600.jpg",
-       "Martin Klapetek", kPlasmaLicence},
+      {kPlasma, "/usr/share/wallpapers/FallenLeaf/contents/images/2560x1600.jpg", "Martin Klapetek",
+       kPlasmaLicence},
       {kPlasma, "/usr/share/wallpapers/Grey/contents/images/2560x1600.jpg", "Sigi Sagi",
        kPlasmaLicence},
       {kPlasma, "/usr/share/wallpapers/Kite/contents/images/2560x1600.jpg", "Risto Saukonpaa",
@@ -108,8 +109,8 @@ const std::vector<DebianPhoto>& debianPhotos() {
        "Risto Saukonpaa", kPlasmaLicence},
       {kPlasma, "/usr/share/wallpapers/Path/contents/images/2560x1600.jpg", "Risto Saukonpaa",
        kPlasmaLicence},
-      {kPlasma, "/usr/share/wallpapers/summer_1am/contents/images/2560x1600.jpg",
-       "Risto Saukonpaa", kPlasmaLicence},
+      {kPlasma, "/usr/share/wallpapers/summer_1am/contents/images/2560x1600.jpg", "Risto Saukonpaa",
+       kPlasmaLicence},
   };
   return photos;
 }

@@ -137,7 +137,8 @@ Shape placeOccluder(const Placement& where, const std::vector<Shape>& placed, in
 
 // Thin structure j: a pole (thin cylinder) or post (thin box), both nearly vertical and
 // spanning most of the image height; a wire (thin, roughly horizontal cylinder); or a branch:
-// a thin box limb at any angle with 1 .. 3 thinner twigs. 0.6 .. 5 pixels thick.
+// a thin box limb at any angle with 1 .. 3 thinner twigs. 1 .. 5 pixels thick where they
+// stand.
 std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
   const SyntheticSceneParams& p = where.p;
   const int kind = rng.uniformInt(0, 3);
@@ -153,7 +154,8 @@ std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
       s.kind = ShapeKind::Cylinder;
       const Eigen::Vector3d axis(rng.uniform(-0.12, 0.12), 1.0, rng.uniform(-0.2, 0.2));
       s.axes = frameFromAxis(axis, Eigen::Vector3d::UnitZ());
-      s.size = Eigen::Vector3d(pixel * rng.uniform(0.8, 3.0), 0, z / p.fy() * rng.uniform(0.4, 1.0));
+      s.size =
+          Eigen::Vector3d(pixel * rng.uniform(0.6, 2.5), 0, z / p.fy() * rng.uniform(0.4, 1.0));
       parts.push_back(s);
       break;
     }
@@ -161,8 +163,8 @@ std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
       s.role = ShapeRole::Post;
       s.kind = ShapeKind::Box;
       s.axes = rotation(rng.uniform(-30, 30) * kDeg, 0, rng.uniform(-8, 8) * kDeg);
-      s.size = Eigen::Vector3d(pixel * rng.uniform(1.0, 4.0), z / p.fy() * rng.uniform(0.4, 1.0),
-                               pixel * rng.uniform(1.0, 4.0));
+      s.size = Eigen::Vector3d(pixel * rng.uniform(0.6, 2.5), z / p.fy() * rng.uniform(0.4, 1.0),
+                               pixel * rng.uniform(0.6, 2.5));
       parts.push_back(s);
       break;
     }
@@ -171,7 +173,8 @@ std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
       s.kind = ShapeKind::Cylinder;
       const Eigen::Vector3d axis(1.0, rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3));
       s.axes = frameFromAxis(axis, Eigen::Vector3d::UnitZ());
-      s.size = Eigen::Vector3d(pixel * rng.uniform(0.6, 2.0), 0, z / p.fx() * rng.uniform(0.4, 1.2));
+      s.size =
+          Eigen::Vector3d(pixel * rng.uniform(0.5, 1.5), 0, z / p.fx() * rng.uniform(0.4, 1.2));
       parts.push_back(s);
       break;
     }
@@ -179,7 +182,7 @@ std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
       const double angle = rng.uniform(-70, 70) * kDeg + (rng.chance(0.5) ? M_PI : 0.0);
       const double yaw = rng.uniform(-35, 35) * kDeg;
       const double half = z / p.fx() * rng.uniform(0.2, 0.5);
-      const double thick = pixel * rng.uniform(1.5, 5.0);
+      const double thick = pixel * rng.uniform(0.75, 2.5); // half thickness
       s.role = ShapeRole::Branch;
       s.kind = ShapeKind::Box;
       s.axes = rotation(yaw, 0, angle);
@@ -251,8 +254,8 @@ SyntheticScene generateWorldScene(const SyntheticSceneParams& params) {
       const double z = far * bgRng.uniform(0.6, 0.95);
       const double u = bgRng.uniform(0.0, 1.0), hu = bgRng.uniform(0.08, 0.4);
       const double top = bgRng.uniform(vTop + 0.05, 0.9);
-      objects.push_back(skylineWall(p, ShapeRole::Distant, z, u, hu, top,
-                                    bgRng.uniform(-8, 8) * kDeg, bgRng));
+      objects.push_back(
+          skylineWall(p, ShapeRole::Distant, z, u, hu, top, bgRng.uniform(-8, 8) * kDeg, bgRng));
     }
   } else {
     background = farPlane(p, far, bgRng);
@@ -278,8 +281,8 @@ SyntheticScene generateWorldScene(const SyntheticSceneParams& params) {
   for (size_t i = 0; i < objects.size(); ++i) {
     Shape& o = objects[i];
     const bool upright = o.role == ShapeRole::Distant || o.role == ShapeRole::FrontoPlane;
-    maybePhotoTexture(p, uint64_t(i) + 1, pixelAt(p, std::max(o.centre.z(), p.nearDepth)),
-                      upright, o);
+    maybePhotoTexture(p, uint64_t(i) + 1, pixelAt(p, std::max(o.centre.z(), p.nearDepth)), upright,
+                      o);
   }
 
   SyntheticScene scene;

@@ -57,9 +57,9 @@ json textureJson(const Texture& t) {
 }
 
 json shapeJson(const Shape& s) {
-  return json{{"role", toString(s.role)},     {"kind", toString(s.kind)},
-              {"centre", vec(s.centre)},      {"axes", mat(s.axes)},
-              {"size", vec(s.size)},          {"texture", textureJson(s.texture)}};
+  return json{{"role", toString(s.role)}, {"kind", toString(s.kind)},
+              {"centre", vec(s.centre)},  {"axes", mat(s.axes)},
+              {"size", vec(s.size)},      {"texture", textureJson(s.texture)}};
 }
 
 // The make-scene command that reproduces the scene, when the parameters it cannot set are at
@@ -90,10 +90,10 @@ std::string commandFor(const SyntheticSceneParams& p) {
   if (p.style != SceneStyle::Objects)
     command += " --style " + std::string(toString(p.style));
   if (p.textures != TextureSet::Procedural)
-    command += " --textures " + std::string(toString(p.textures)) +
-               (p.photos && p.photos->source().rfind('\'', 0) == 0
-                    ? " --photo-dir " + p.photos->source()
-                    : std::string());
+    command +=
+        " --textures " + std::string(toString(p.textures)) +
+        (p.photos && p.photos->source().rfind('\'', 0) == 0 ? " --photo-dir " + p.photos->source()
+                                                            : std::string());
   return command;
 }
 

@@ -100,8 +100,8 @@ Eigen::Vector3d evaluateSky(const Texture& t, const Eigen::Vector2d& st) {
   if (t.detail > 0) {
     // Clouds: fractal noise flattened towards the horizon, soft-thresholded.
     const double flat = 1.0 / std::max(0.15, std::abs(e) + 0.15);
-    const double c = fractalNoise(t.frequency * st.x(), t.frequency * flat * st.y() * 0.4,
-                                  t.seed, 5);
+    const double c =
+        fractalNoise(t.frequency * st.x(), t.frequency * flat * st.y() * 0.4, t.seed, 5);
     const double mask = clamp01((c - 0.48) / 0.22);
     const Eigen::Vector3d cloud = Eigen::Vector3d::Constant(0.93) * (0.85 + 0.15 * c);
     rgb += (cloud - rgb) * (t.detail * mask);
@@ -230,8 +230,8 @@ Texture randomSkyTexture(Random& rng) {
   if (kind < 0.5) { // clear: deep blue above, pale blue at the horizon
     const double hue = rng.uniform(0.55, 0.64);
     tex.colourA = hsvToRgb(hue, rng.uniform(0.45, 0.8), rng.uniform(0.55, 0.85));
-    tex.colourB = hsvToRgb(hue + rng.uniform(-0.03, 0.03), rng.uniform(0.1, 0.35),
-                           rng.uniform(0.8, 0.97));
+    tex.colourB =
+        hsvToRgb(hue + rng.uniform(-0.03, 0.03), rng.uniform(0.1, 0.35), rng.uniform(0.8, 0.97));
   } else if (kind < 0.8) { // overcast
     const double v = rng.uniform(0.55, 0.9);
     tex.colourA = hsvToRgb(rng.uniform(0.55, 0.65), rng.uniform(0.0, 0.12), v);

@@ -174,8 +174,8 @@ void TrainingConfig::validate(const std::string& source) const {
     bad("synthetic.objects", y.objects, "must be 0 .. 1000");
   if (y.antialias < 1 || y.antialias > 16)
     bad("synthetic.antialias", y.antialias, "must be 1 .. 16");
-  if ((y.width == 0) != (y.height == 0) || y.width % 16 != 0 || y.height % 16 != 0 ||
-      y.width < 0 || y.height < 0)
+  if ((y.width == 0) != (y.height == 0) || y.width % 16 != 0 || y.height % 16 != 0 || y.width < 0 ||
+      y.height < 0)
     fail(source, ": field \"synthetic.size\" = \"", y.width, "x", y.height,
          "\": width and height must be positive multiples of 16");
 }
@@ -294,9 +294,9 @@ std::string toJson(const TrainingConfig& c) {
                        {"views", y.views},
                        {"objects", y.objects},
                        {"antialias", y.antialias},
-                       {"size", y.width > 0 ? std::to_string(y.width) + "x" +
-                                                  std::to_string(y.height)
-                                            : std::string()}};
+                       {"size", y.width > 0
+                                    ? std::to_string(y.width) + "x" + std::to_string(y.height)
+                                    : std::string()}};
   return root.dump(2) + "\n";
 }
 

@@ -82,9 +82,9 @@ public:
   }
   std::string describe() const override {
     const synthetic::SyntheticSceneParams& p = source_.params();
-    return "synthetic scenes (seed " + std::to_string(seed_) + ", " +
-           synthetic::toString(p.style) + " style, " + std::to_string(p.views) + " views of " +
-           std::to_string(p.width) + "x" + std::to_string(p.height) + ", " + textureNote_ + ")";
+    return "synthetic scenes (seed " + std::to_string(seed_) + ", " + synthetic::toString(p.style) +
+           " style, " + std::to_string(p.views) + " views of " + std::to_string(p.width) + "x" +
+           std::to_string(p.height) + ", " + textureNote_ + ")";
   }
 
 private:
@@ -111,8 +111,10 @@ private:
           c.photoDir.empty() ? "the Debian photo packages" : "'" + c.photoDir + "'";
       if (p.photos->empty()) {
         if (c.photosRequired)
-          fail(o.configSource, ": field \"synthetic.textures\" is \"photo\", but no photographs "
-               "were found in ", where, "; ",
+          fail(o.configSource,
+               ": field \"synthetic.textures\" is \"photo\", but no photographs "
+               "were found in ",
+               where, "; ",
                c.photoDir.empty() ? synthetic::photoInstallHint() : "add .jpg or .png files",
                ", or set \"synthetic.photos_required\": false to fall back to procedural "
                "textures");

@@ -109,8 +109,7 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
       fail("--init-weights '", options_.initWeights,
            "': a resumed run continues from its own checkpoint; warm-start a new run instead");
     const network::LoadReport r = network_->parameters().load(options_.initWeights);
-    say("initial weights: " + options_.initWeights + " (" + std::to_string(r.loaded) +
-        " tensors" +
+    say("initial weights: " + options_.initWeights + " (" + std::to_string(r.loaded) + " tensors" +
         (r.unexpected.empty() ? std::string()
                               : ", " + std::to_string(r.unexpected.size()) + " unused") +
         ")");

@@ -58,9 +58,8 @@ public:
   /// Reads and downscales `files` (longer side <= maxSize, area averaging). Throws
   /// simpli::Error naming the file that cannot be read as an image, or for maxSize < 16.
   /// `source` names the collection in describe() (default: "N files").
-  static std::shared_ptr<const PhotoLibrary> load(const std::vector<std::string>& files,
-                                                  int maxSize = 1024,
-                                                  const std::string& source = "");
+  static std::shared_ptr<const PhotoLibrary>
+  load(const std::vector<std::string>& files, int maxSize = 1024, const std::string& source = "");
   /// load(findPhotoFiles(dir), maxSize), done once per (dir, maxSize) in the process and
   /// shared afterwards (thread-safe). An empty library (no photos found) is cached too.
   static std::shared_ptr<const PhotoLibrary> cached(const std::string& dir, int maxSize = 1024);

@@ -80,8 +80,8 @@ struct SyntheticConfig {
   /// Photo textures asked for but no photographs found: true = an error naming the config
   /// field and how to install them; false = procedural textures and a one-line notice.
   bool photosRequired = true;
-  int views = 12;   ///< frames per scene (a camera path the sampler draws windows from)
-  int objects = 8;  ///< objects (objects style) or occluders (world style)
+  int views = 12;  ///< frames per scene (a camera path the sampler draws windows from)
+  int objects = 8; ///< objects (objects style) or occluders (world style)
   int antialias = 4;
   int width = 0, height = 0; ///< 0 = the generator's 192 x 128; --size overrides
 };
