@@ -4,6 +4,7 @@
 
 #include "simpli/error.h"
 #include "simpli/model/io/staged_folder.h"
+#include "simpli/model/synthetic/photos.h"
 #include "simpli/model/synthetic/scene_writer.h"
 #include <CLI/CLI.hpp>
 
@@ -27,6 +28,9 @@ struct MakeSceneOptions {
   std::string size = "192x128";
   int objects = 8;
   int antialias = 4;
+  std::string style = "objects";
+  std::string textures = "procedural";
+  std::string photoDir;
   bool force = false;
 };
 
@@ -65,11 +69,23 @@ void runMakeScene(const MakeSceneOptions& o) {
   p.views = o.views;
   p.objects = o.objects;
   p.antialias = o.antialias;
+  p.style = synthetic::parseSceneStyle(o.style, "--style");
+  p.textures = synthetic::parseTextureSet(o.textures, "--textures");
+  if (!o.photoDir.empty() && p.textures != synthetic::TextureSet::Photo)
+    fail("--photo-dir '", o.photoDir, "': only with --textures photo");
   parseSize(o.size, p.width, p.height);
   p.validate(); // the remaining limits (e.g. views <= 10000), named by field
   io::checkOutputLocation(o.out, "--out");
 
   const auto start = std::chrono::steady_clock::now();
+  if (p.textures == synthetic::TextureSet::Photo) {
+    p.photos = synthetic::PhotoLibrary::cached(o.photoDir);
+    if (p.photos->empty())
+      std::fprintf(
+          stderr, "note: no photographs found in %s; using procedural textures (%s)\n",
+          o.photoDir.empty() ? "the Debian photo packages" : ("'" + o.photoDir + "'").c_str(),
+          o.photoDir.empty() ? synthetic::photoInstallHint().c_str() : "add .jpg or .png files");
+  }
   const synthetic::SyntheticScene scene = synthetic::generateSyntheticScene(p);
   const std::vector<synthetic::RenderedView> views = synthetic::renderViews(scene);
   synthetic::SceneWriteOptions wo;
@@ -90,10 +106,28 @@ void runMakeScene(const MakeSceneOptions& o) {
     farB = std::max(farB, b.far);
   }
   const double slant = std::acos(std::min(1.0, -scene.background.axes.col(2).z())) * 180.0 / M_PI;
-  std::printf("wrote %s: %d views of %d x %d, seed %llu, %d objects (%s) in front of a "
-              "background plane slanted %.1f degrees\n",
-              written.dir.c_str(), p.views, p.width, p.height, (unsigned long long)p.seed,
-              p.objects, contents.empty() ? "none" : contents.c_str(), slant);
+  if (p.style == synthetic::SceneStyle::World) {
+    const synthetic::WorldLayout& w = scene.world;
+    std::printf("wrote %s: %d views of %d x %d, seed %llu, world style: %zu shapes (%s) in "
+                "front of %s at %.4g scene units; fov %.1f degrees, camera offsets <= %.3g x "
+                "the near depth\n",
+                written.dir.c_str(), p.views, p.width, p.height, (unsigned long long)p.seed,
+                scene.objects.size(), contents.empty() ? "none" : contents.c_str(),
+                w.sky ? "a skyline under a sky at infinity" : "a far plane", w.farDepth,
+                w.fovDegrees, w.translation);
+  } else {
+    std::printf("wrote %s: %d views of %d x %d, seed %llu, %d objects (%s) in front of a "
+                "background plane slanted %.1f degrees\n",
+                written.dir.c_str(), p.views, p.width, p.height, (unsigned long long)p.seed,
+                p.objects, contents.empty() ? "none" : contents.c_str(), slant);
+  }
+  if (scene.params.usesPhotos()) {
+    int photoSurfaces = scene.background.texture.pattern == synthetic::Pattern::Photo;
+    for (const synthetic::Shape& s : scene.objects)
+      photoSurfaces += s.texture.pattern == synthetic::Pattern::Photo;
+    std::printf("  photo textures on %d of %d surfaces (%s)\n", photoSurfaces, scene.shapeCount(),
+                p.photos->describe().c_str());
+  }
   std::printf("  near / far %.4g .. %.4g scene units; depth/NNN.png = z / %g; %.1f s\n", nearB,
               farB, written.depthScale, seconds);
   if (p.width % 16 != 0 || p.height % 16 != 0)
@@ -123,6 +157,17 @@ void addMakeSceneCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--antialias", opts->antialias, "Anti-aliasing: N x N jittered samples per pixel")
       ->capture_default_str();
+  cmd->add_option("--style", opts->style,
+                  "Scene layout: objects (objects in front of a background plane) or world "
+                  "(FlyingThings-like: far layer or skyline under a sky, occluders, thin "
+                  "structures, handheld rig; docs/training_data.md)")
+      ->capture_default_str();
+  cmd->add_option("--textures", opts->textures,
+                  "Surface textures: procedural or photo (photographs, see --photo-dir)")
+      ->capture_default_str();
+  cmd->add_option("--photo-dir", opts->photoDir,
+                  "With --textures photo: a folder of .jpg/.png photographs (default: the "
+                  "Debian photo packages, scripts/install-photos.sh)");
   cmd->add_flag("--force", opts->force, "Replace DIR if it holds a scene written by make-scene");
   cmd->callback([opts] { runMakeScene(*opts); });
 }

@@ -21,7 +21,7 @@ namespace simpli::app {
 namespace {
 
 struct TrainCliOptions {
-  std::string data, config, out, vgg, size, device;
+  std::string data, config, out, vgg, size, device, initWeights;
   bool resume = false;
   int64_t steps = -1, checkpointEvery = -1;
   int64_t seed = -1;
@@ -49,6 +49,9 @@ int runTrain(const TrainCliOptions& o) {
   t.steps = o.steps;
   t.checkpointEvery = o.checkpointEvery;
   t.vggPath = o.vgg;
+  t.initWeights = o.initWeights;
+  if (!o.config.empty())
+    t.dataOptions.configSource = "training config '" + o.config + "'";
   if (!o.size.empty())
     training::parseWidthHeight(o.size, "--size", t.dataOptions.width, t.dataOptions.height);
   if (o.seed >= 0)
@@ -123,6 +126,9 @@ void addTrainCommand(CLI::App& app) {
                   "Steps between checkpoints (default: the config's)");
   cmd->add_option("--vgg", opts->vgg,
                   "VGG-19 weights (safetensors, torchvision key names) for the perceptual loss");
+  cmd->add_option("--init-weights", opts->initWeights,
+                  "Warm-start a new run from these weights (safetensors with every parameter of "
+                  "the config's network, e.g. model/weights/default.safetensors for tiny)");
   cmd->add_option("--size", opts->size,
                   "Resize the images to WIDTHxHEIGHT, e.g. 192x128 (multiples of 16)");
   cmd->add_option("--seed", opts->seed, "Seed of the network initialisation and sampling");

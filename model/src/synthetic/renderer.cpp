@@ -61,6 +61,15 @@ Eigen::Vector3d shadeHit(const SyntheticScene& scene, const SurfaceHit& hit) {
   return s.texture.evaluate(hit.st) * (0.55 + 0.45 * lambert);
 }
 
+Eigen::Vector3d missColour(const SyntheticScene& scene, const Ray& ray) {
+  if (!scene.hasSky)
+    return Eigen::Vector3d(0.5, 0.5, 0.5);
+  const Eigen::Vector3d& d = ray.direction;
+  const double azimuth = std::atan2(d.x(), d.z());
+  const double elevation = std::atan2(-d.y(), std::hypot(d.x(), d.z()));
+  return scene.sky.evaluate(Eigen::Vector2d(azimuth, elevation));
+}
+
 RenderedView renderView(const SyntheticScene& scene, const scene::Camera& camera,
                         uint64_t jitterSeed) {
   const int w = camera.width, h = camera.height;
@@ -72,7 +81,6 @@ RenderedView renderView(const SyntheticScene& scene, const scene::Camera& camera
   view.height = h;
   view.rgb.assign(size_t(w) * size_t(h) * 3, 0);
   view.depth.assign(size_t(w) * size_t(h), 0.0f);
-  const Eigen::Vector3d grey(0.5, 0.5, 0.5);
 
   // Rows are independent and every sample position is a function of (seed, pixel, sample),
   // so the result does not depend on how the rows are split over threads.
@@ -80,20 +88,22 @@ RenderedView renderView(const SyntheticScene& scene, const scene::Camera& camera
     for (int y = rows.start; y < rows.end; ++y) {
       for (int x = 0; x < w; ++x) {
         const size_t pixel = size_t(y) * size_t(w) + size_t(x);
-        const SurfaceHit centre = castRay(scene, cameraRay(camera, (x + 0.5) / w, (y + 0.5) / h));
+        const Ray centreRay = cameraRay(camera, (x + 0.5) / w, (y + 0.5) / h);
+        const SurfaceHit centre = castRay(scene, centreRay);
         view.depth[pixel] = centre.hit() ? float(centre.t) : 0.0f;
 
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
         if (aa == 1) {
-          sum = centre.hit() ? shadeHit(scene, centre) : grey;
+          sum = centre.hit() ? shadeHit(scene, centre) : missColour(scene, centreRay);
         } else {
           const uint64_t pixelSeed = deriveSeed(jitterSeed, pixel);
           for (int k = 0; k < aa * aa; ++k) {
             const uint64_t bits = mix64(pixelSeed + uint64_t(k));
             const double jx = unitFromBits(bits), jy = unitFromBits(mix64(bits));
             const double sx = ((k % aa) + jx) / aa, sy = ((k / aa) + jy) / aa;
-            const SurfaceHit hit = castRay(scene, cameraRay(camera, (x + sx) / w, (y + sy) / h));
-            sum += hit.hit() ? shadeHit(scene, hit) : grey;
+            const Ray ray = cameraRay(camera, (x + sx) / w, (y + sy) / h);
+            const SurfaceHit hit = castRay(scene, ray);
+            sum += hit.hit() ? shadeHit(scene, hit) : missColour(scene, ray);
           }
           sum /= double(aa * aa);
         }

@@ -1,8 +1,12 @@
-// Random forward-facing scenes (see synthetic/scene_generator.h).
+// Random forward-facing scenes (see synthetic/scene.h); the objects style and what both styles
+// share. The world style: scene_world.cpp.
 #include "simpli/model/synthetic/scene.h"
 
 #include "simpli/error.h"
 #include "simpli/model/synthetic/camera_path.h"
+#include "simpli/model/synthetic/photos.h"
+
+#include "synthetic/scene_internal.h"
 
 #include <Eigen/Geometry>
 
@@ -11,17 +15,7 @@
 
 namespace simpli::synthetic {
 
-namespace {
-
-constexpr double kDeg = M_PI / 180.0;
-
-// Independent random streams derived from the scene seed.
-enum Stream : uint64_t { kCameras = 2, kBackground = 3, kKinds = 4, kObjects = 5, kLight = 6 };
-
-template <typename T> void checkRange(const char* field, T value, T lo, T hi) {
-  if (!(value >= lo && value <= hi))
-    fail("synthetic scene: '", field, "' is ", value, ", expected ", lo, " .. ", hi);
-}
+namespace detail {
 
 Eigen::Matrix3d rotation(double yaw, double pitch, double roll) {
   return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
@@ -42,32 +36,30 @@ CameraPathParams pathParams(const SyntheticSceneParams& p) {
   return c;
 }
 
-Shape makeBackground(const SyntheticSceneParams& p, Random& rng) {
-  Shape bg;
-  bg.kind = ShapeKind::Plane;
-  bg.role = ShapeRole::Background;
-  const double depth = rng.uniform(p.backgroundDepthMin, p.backgroundDepthMax);
-  // Nearly fronto-parallel in about a third of the scenes, clearly slanted otherwise.
-  const double slant = p.maxBackgroundSlantDegrees * kDeg *
-                       (rng.chance(0.3) ? rng.uniform(0.0, 0.12) : rng.uniform(0.3, 1.0));
-  const double azimuth = rng.uniform(0.0, 2.0 * M_PI);
-  // Normal towards the cameras (-z), tilted by `slant`.
-  const Eigen::Vector3d normal(std::sin(slant) * std::cos(azimuth),
-                               std::sin(slant) * std::sin(azimuth), -std::cos(slant));
-  bg.centre = Eigen::Vector3d(0, 0, depth);
-  bg.axes = frameFromAxis(normal, Eigen::Vector3d::UnitY());
-  bg.size = Eigen::Vector3d::Zero();
-  bg.texture = randomTexture(rng, depth / (p.fx() * p.width), 6, 30);
-  return bg;
+double logUniform(Random& rng, double lo, double hi) {
+  return hi > lo ? lo * std::pow(hi / lo, rng.uniform()) : lo;
 }
 
-// Signed distance of a point from the background plane, positive on the cameras' side.
-double cameraSideDistance(const Shape& bg, const Eigen::Vector3d& x) {
-  return bg.axes.col(2).dot(x - bg.centre);
+void maybePhotoTexture(const SyntheticSceneParams& p, uint64_t index, double unitsPerPixel,
+                       bool upright, Shape& shape) {
+  if (!p.usesPhotos())
+    return;
+  Random rng(deriveSeed(deriveSeed(p.seed, kPhotoTextures), index));
+  if (!rng.chance(p.photoProbability))
+    return;
+  std::vector<std::shared_ptr<const Photo>> photos;
+  for (size_t i = 0; i < p.photos->size(); ++i)
+    photos.push_back(p.photos->photo(i));
+  shape.texture = randomPhotoTexture(rng, photos, unitsPerPixel, upright);
 }
 
-// The shape of one object of the given role, centred at the origin, `scale` = half the
-// apparent size in scene units at depth z; `pixel` = scene units per pixel at depth z.
+Eigen::Vector3d randomLightDirection(uint64_t seed) {
+  Random lightRng(deriveSeed(seed, kLight));
+  // From above (-y) and from the cameras' side (-z), as if lit over the photographer's shoulder.
+  return Eigen::Vector3d(lightRng.uniform(-0.6, 0.6), lightRng.uniform(-1.0, -0.3), -1.0)
+      .normalized();
+}
+
 Shape makeObjectShape(ShapeRole role, double scale, double pixel, Random& rng) {
   Shape s;
   s.role = role;
@@ -112,9 +104,47 @@ Shape makeObjectShape(ShapeRole role, double scale, double pixel, Random& rng) {
     break;
   }
   case ShapeRole::Background:
-    fail("makeObjectShape: the background is not an object");
+  case ShapeRole::Distant:
+  case ShapeRole::Post:
+  case ShapeRole::Branch:
+    fail("makeObjectShape: role '", toString(role), "' is not made here");
   }
   return s;
+}
+
+} // namespace detail
+
+using namespace detail;
+
+namespace {
+
+template <typename T> void checkRange(const char* field, T value, T lo, T hi) {
+  if (!(value >= lo && value <= hi))
+    fail("synthetic scene: '", field, "' is ", value, ", expected ", lo, " .. ", hi);
+}
+
+Shape makeBackground(const SyntheticSceneParams& p, Random& rng) {
+  Shape bg;
+  bg.kind = ShapeKind::Plane;
+  bg.role = ShapeRole::Background;
+  const double depth = rng.uniform(p.backgroundDepthMin, p.backgroundDepthMax);
+  // Nearly fronto-parallel in about a third of the scenes, clearly slanted otherwise.
+  const double slant = p.maxBackgroundSlantDegrees * kDeg *
+                       (rng.chance(0.3) ? rng.uniform(0.0, 0.12) : rng.uniform(0.3, 1.0));
+  const double azimuth = rng.uniform(0.0, 2.0 * M_PI);
+  // Normal towards the cameras (-z), tilted by `slant`.
+  const Eigen::Vector3d normal(std::sin(slant) * std::cos(azimuth),
+                               std::sin(slant) * std::sin(azimuth), -std::cos(slant));
+  bg.centre = Eigen::Vector3d(0, 0, depth);
+  bg.axes = frameFromAxis(normal, Eigen::Vector3d::UnitY());
+  bg.size = Eigen::Vector3d::Zero();
+  bg.texture = randomTexture(rng, depth / (p.fx() * p.width), 6, 30);
+  return bg;
+}
+
+// Signed distance of a point from the background plane, positive on the cameras' side.
+double cameraSideDistance(const Shape& bg, const Eigen::Vector3d& x) {
+  return bg.axes.col(2).dot(x - bg.centre);
 }
 
 constexpr ShapeRole kObjectRoles[] = {ShapeRole::FrontoPlane, ShapeRole::SlantedPlane,
@@ -156,6 +186,34 @@ Shape placeObject(const SyntheticSceneParams& p, const Shape& bg, ShapeRole role
 
 } // namespace
 
+const char* toString(SceneStyle style) {
+  return style == SceneStyle::World ? "world" : "objects";
+}
+
+const char* toString(TextureSet textures) {
+  return textures == TextureSet::Photo ? "photo" : "procedural";
+}
+
+SceneStyle parseSceneStyle(const std::string& text, const std::string& what) {
+  if (text == "objects")
+    return SceneStyle::Objects;
+  if (text == "world")
+    return SceneStyle::World;
+  fail(what, " '", text, "': expected \"objects\" (the default) or \"world\"");
+}
+
+TextureSet parseTextureSet(const std::string& text, const std::string& what) {
+  if (text == "procedural")
+    return TextureSet::Procedural;
+  if (text == "photo")
+    return TextureSet::Photo;
+  fail(what, " '", text, "': expected \"procedural\" (the default) or \"photo\"");
+}
+
+bool SyntheticSceneParams::usesPhotos() const {
+  return textures == TextureSet::Photo && photos && !photos->empty();
+}
+
 double SyntheticSceneParams::fx() const {
   return 0.5 / std::tan(0.5 * fovDegrees * kDeg);
 }
@@ -176,6 +234,32 @@ void SyntheticSceneParams::validate() const {
   checkRange("translation", translation, 0.0, 0.5);
   checkRange("rotationDegrees", rotationDegrees, 0.0, 10.0);
   checkRange("antialias", antialias, 1, 16);
+  checkRange("photoProbability", photoProbability, 0.0, 1.0);
+  if (style == SceneStyle::World) {
+    const WorldStyleParams& w = world;
+    checkRange("world.fovDegreesMin", w.fovDegreesMin, 20.0, 100.0);
+    checkRange("world.fovDegreesMax", w.fovDegreesMax, w.fovDegreesMin, 100.0);
+    checkRange("world.farRatioMin", w.farRatioMin, 3.0, 1e5);
+    checkRange("world.farRatioMax", w.farRatioMax, w.farRatioMin, 1e5);
+    checkRange("world.skyProbability", w.skyProbability, 0.0, 1.0);
+    checkRange("world.translationMin", w.translationMin, 1e-4, 0.5);
+    checkRange("world.translationMax", w.translationMax, w.translationMin, 0.5);
+    checkRange("world.rotationDegreesMax", w.rotationDegreesMax, 0.0, 10.0);
+    checkRange("world.thinStructuresMin", w.thinStructuresMin, 0, 100);
+    checkRange("world.thinStructuresMax", w.thinStructuresMax, w.thinStructuresMin, 100);
+    // Without sky the far plane (slanted up to kWorldMaxSlant) must fill every view, as below.
+    SyntheticSceneParams widest = *this;
+    widest.fovDegrees = w.fovDegreesMax;
+    const double corner = std::atan(std::hypot(0.5 / widest.fx(), 0.5 / widest.fy())) / kDeg;
+    const double worst = corner + kWorldMaxSlantDegrees + std::sqrt(3.0) * w.rotationDegreesMax;
+    if (w.skyProbability < 1 && worst > 80.0)
+      fail("synthetic scene: the image corners are ", corner,
+           " degrees off-axis ('world.fovDegreesMax' ", w.fovDegreesMax, ", size ", width, "x",
+           height, "); with 'world.rotationDegreesMax' ", w.rotationDegreesMax,
+           " the far plane could be missed (", worst,
+           " > 80 degrees): use a smaller field of view or a less elongated size");
+    return;
+  }
   // Every camera ray must meet the background in front of the camera: the ray farthest from
   // the optical axis (an image corner, turned further by the largest camera rotation) must
   // stay clear of the tilted plane's horizon, with a margin of 10 degrees.
@@ -201,10 +285,17 @@ SyntheticScene makeSyntheticScene(const SyntheticSceneParams& params, const Shap
   return scene;
 }
 
-SyntheticScene generateSyntheticScene(const SyntheticSceneParams& params) {
-  params.validate();
+SyntheticScene generateSyntheticScene(const SyntheticSceneParams& input) {
+  input.validate();
+  SyntheticSceneParams params = input;
+  if (params.textures == TextureSet::Photo && !params.usesPhotos())
+    params.textures = TextureSet::Procedural; // no photographs: the procedural fallback
+  if (params.style == SceneStyle::World)
+    return generateWorldScene(params);
   Random bgRng(deriveSeed(params.seed, kBackground));
-  const Shape background = makeBackground(params, bgRng);
+  Shape background = makeBackground(params, bgRng);
+  maybePhotoTexture(params, 0, background.centre.z() / (params.fx() * params.width), true,
+                    background);
 
   // Roles: shuffled blocks of all six, so every scene with >= 6 objects has each kind once.
   Random kindRng(deriveSeed(params.seed, kKinds));
@@ -217,13 +308,13 @@ SyntheticScene generateSyntheticScene(const SyntheticSceneParams& params) {
   for (int i = 0; i < params.objects; ++i) {
     Random objRng(deriveSeed(deriveSeed(params.seed, kObjects), uint64_t(i)));
     objects.push_back(placeObject(params, background, roles[size_t(i)], objects, i, objRng));
+    Shape& o = objects.back();
+    maybePhotoTexture(params, uint64_t(i) + 1, o.centre.z() / (params.fx() * params.width),
+                      o.role == ShapeRole::FrontoPlane, o);
   }
 
   SyntheticScene scene = makeSyntheticScene(params, background, objects);
-  Random lightRng(deriveSeed(params.seed, kLight));
-  // From above (-y) and from the cameras' side (-z), as if lit over the photographer's shoulder.
-  scene.lightDirection =
-      Eigen::Vector3d(lightRng.uniform(-0.6, 0.6), lightRng.uniform(-1.0, -0.3), -1.0).normalized();
+  scene.lightDirection = randomLightDirection(params.seed);
   return scene;
 }
 

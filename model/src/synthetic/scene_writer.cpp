@@ -4,6 +4,7 @@
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
 #include "simpli/model/scene/llff_writer.h"
+#include "simpli/model/synthetic/photos.h"
 
 #include <nlohmann/json.hpp>
 
@@ -31,21 +32,34 @@ json mat(const Eigen::Matrix3d& m) {
   return rows;
 }
 
-json shapeJson(const Shape& s) {
-  const Texture& t = s.texture;
-  return json{{"role", toString(s.role)},
-              {"kind", toString(s.kind)},
-              {"centre", vec(s.centre)},
-              {"axes", mat(s.axes)},
-              {"size", vec(s.size)},
-              {"texture",
-               {{"pattern", toString(t.pattern)},
-                {"colour_a", vec(t.colourA)},
-                {"colour_b", vec(t.colourB)},
-                {"frequency", t.frequency},
+json textureJson(const Texture& t) {
+  if (t.pattern == Pattern::Photo) {
+    const PhotoMapping& m = t.mapping;
+    return json{{"pattern", toString(t.pattern)},
+                {"photo", t.photo ? t.photo->name : std::string()},
+                {"photo_size", t.photo ? json::array({t.photo->width, t.photo->height}) : json()},
+                {"scale", m.scale},
                 {"angle", t.angle},
-                {"detail", t.detail},
-                {"seed", t.seed}}}};
+                {"offset", json::array({m.offset.x(), m.offset.y()})},
+                {"mirror", m.mirror},
+                {"gain", vec(m.gain)},
+                {"saturation", m.saturation},
+                {"contrast", m.contrast},
+                {"brightness", m.brightness}};
+  }
+  return json{{"pattern", toString(t.pattern)},
+              {"colour_a", vec(t.colourA)},
+              {"colour_b", vec(t.colourB)},
+              {"frequency", t.frequency},
+              {"angle", t.angle},
+              {"detail", t.detail},
+              {"seed", t.seed}};
+}
+
+json shapeJson(const Shape& s) {
+  return json{{"role", toString(s.role)}, {"kind", toString(s.kind)},
+              {"centre", vec(s.centre)},  {"axes", mat(s.axes)},
+              {"size", vec(s.size)},      {"texture", textureJson(s.texture)}};
 }
 
 // The make-scene command that reproduces the scene, when the parameters it cannot set are at
@@ -58,10 +72,29 @@ std::string commandFor(const SyntheticSceneParams& p) {
       p.maxBackgroundSlantDegrees != d.maxBackgroundSlantDegrees ||
       p.translation != d.translation || p.rotationDegrees != d.rotationDegrees)
     return "";
-  return "simpli make-scene --out DIR --seed " + std::to_string(p.seed) + " --views " +
-         std::to_string(p.views) + " --size " + std::to_string(p.width) + "x" +
-         std::to_string(p.height) + " --objects " + std::to_string(p.objects) + " --antialias " +
-         std::to_string(p.antialias);
+  const WorldStyleParams dw;
+  const WorldStyleParams& w = p.world;
+  if (p.style == SceneStyle::World &&
+      (w.fovDegreesMin != dw.fovDegreesMin || w.fovDegreesMax != dw.fovDegreesMax ||
+       w.farRatioMin != dw.farRatioMin || w.farRatioMax != dw.farRatioMax ||
+       w.skyProbability != dw.skyProbability || w.translationMin != dw.translationMin ||
+       w.translationMax != dw.translationMax || w.rotationDegreesMax != dw.rotationDegreesMax ||
+       w.thinStructuresMin != dw.thinStructuresMin || w.thinStructuresMax != dw.thinStructuresMax))
+    return "";
+  if (p.textures == TextureSet::Photo && p.photoProbability != d.photoProbability)
+    return "";
+  std::string command = "simpli make-scene --out DIR --seed " + std::to_string(p.seed) +
+                        " --views " + std::to_string(p.views) + " --size " +
+                        std::to_string(p.width) + "x" + std::to_string(p.height) + " --objects " +
+                        std::to_string(p.objects) + " --antialias " + std::to_string(p.antialias);
+  if (p.style != SceneStyle::Objects)
+    command += " --style " + std::string(toString(p.style));
+  if (p.textures != TextureSet::Procedural)
+    command +=
+        " --textures " + std::string(toString(p.textures)) +
+        (p.photos && p.photos->source().rfind('\'', 0) == 0 ? " --photo-dir " + p.photos->source()
+                                                            : std::string());
+  return command;
 }
 
 bool isGeneratedScene(const fs::path& dir) {
@@ -110,6 +143,36 @@ std::string sceneDescriptionJson(const SyntheticScene& scene,
                  {"translation", p.translation},
                  {"rotation_degrees", p.rotationDegrees},
                  {"antialias", p.antialias}};
+  // Only for what the first format had no word for, so that its scenes stay byte-identical.
+  if (p.style != SceneStyle::Objects) {
+    const WorldStyleParams& w = p.world;
+    j["params"]["style"] = toString(p.style);
+    j["params"]["world"] = {{"fov_degrees", {w.fovDegreesMin, w.fovDegreesMax}},
+                            {"far_ratio", {w.farRatioMin, w.farRatioMax}},
+                            {"sky_probability", w.skyProbability},
+                            {"translation", {w.translationMin, w.translationMax}},
+                            {"rotation_degrees_max", w.rotationDegreesMax},
+                            {"thin_structures", {w.thinStructuresMin, w.thinStructuresMax}}};
+    const WorldLayout& l = scene.world;
+    j["world"] = {{"fov_degrees", l.fovDegrees},
+                  {"far_depth", l.farDepth},
+                  {"translation", l.translation},
+                  {"rotation_degrees", l.rotationDegrees},
+                  {"sky", l.sky}};
+  }
+  if (p.textures != TextureSet::Procedural) {
+    j["params"]["textures"] = toString(p.textures);
+    j["params"]["photo_probability"] = p.photoProbability;
+    json photos = json::array();
+    if (p.photos)
+      for (size_t i = 0; i < p.photos->size(); ++i)
+        photos.push_back(p.photos->photo(i)->name);
+    j["params"]["photos"] = photos;
+  }
+  if (scene.hasSky)
+    j["sky"] = {{"texture", textureJson(scene.sky)},
+                {"depth", "infinity (depth maps: 0); texture at (azimuth, elevation) of the ray "
+                          "direction, radians"}};
   j["frames"] = "world = OpenCV frame of the mean camera (x right, y down, z forward); scene "
                 "units; cameras world->camera Xc = R Xw + t, relative intrinsics";
   j["images"] = {{"files", "images/NNN.png"}, {"encoding", "8-bit RGB"}};

@@ -41,6 +41,12 @@ const char* toString(ShapeRole role) {
     return "pole";
   case ShapeRole::Wire:
     return "wire";
+  case ShapeRole::Distant:
+    return "distant wall";
+  case ShapeRole::Post:
+    return "post";
+  case ShapeRole::Branch:
+    return "branch";
   }
   return "?";
 }

@@ -1,6 +1,9 @@
 // Procedural textures (see synthetic/texture.h).
 #include "simpli/model/synthetic/texture.h"
 
+#include "simpli/error.h"
+#include "simpli/model/synthetic/photos.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -16,6 +19,10 @@ const char* toString(Pattern pattern) {
     return "checker";
   case Pattern::Gradient:
     return "gradient";
+  case Pattern::Photo:
+    return "photo";
+  case Pattern::Sky:
+    return "sky";
   }
   return "?";
 }
@@ -63,7 +70,54 @@ double fractalNoise(double x, double y, uint64_t seed, int octaves) {
   return norm > 0 ? sum / norm : 0.5;
 }
 
+namespace {
+
+Eigen::Vector3d evaluatePhoto(const Texture& t, const Eigen::Vector2d& st) {
+  if (!t.photo)
+    fail("photo texture without a photo");
+  const PhotoMapping& m = t.mapping;
+  const double s = m.mirror ? -st.x() : st.x(), u = st.y();
+  const double ca = std::cos(t.angle), sa = std::sin(t.angle);
+  const double px = m.offset.x() + m.scale * (ca * s - sa * u);
+  const double py = m.offset.y() + m.scale * (sa * s + ca * u);
+  Eigen::Vector3d rgb = t.photo->sample(px, py);
+  const double luma = 0.299 * rgb[0] + 0.587 * rgb[1] + 0.114 * rgb[2];
+  for (int c = 0; c < 3; ++c) {
+    double v = luma + m.saturation * (rgb[c] - luma);
+    v = 0.5 + m.contrast * (v - 0.5);
+    rgb[c] = clamp01(v * m.gain[c] + m.brightness);
+  }
+  return rgb;
+}
+
+Eigen::Vector3d evaluateSky(const Texture& t, const Eigen::Vector2d& st) {
+  // Elevation (radians, up positive) -> 0 at the horizon .. 1 high up; a little haze below.
+  const double e = st.y();
+  const double p = e > 0 ? 1.0 - std::exp(-3.0 * e) : 0.0;
+  Eigen::Vector3d rgb = t.colourB + (t.colourA - t.colourB) * p;
+  if (e < 0)
+    rgb *= std::max(0.6, 1.0 + 0.8 * e);
+  if (t.detail > 0) {
+    // Clouds: fractal noise flattened towards the horizon, soft-thresholded.
+    const double flat = 1.0 / std::max(0.15, std::abs(e) + 0.15);
+    const double c =
+        fractalNoise(t.frequency * st.x(), t.frequency * flat * st.y() * 0.4, t.seed, 5);
+    const double mask = clamp01((c - 0.48) / 0.22);
+    const Eigen::Vector3d cloud = Eigen::Vector3d::Constant(0.93) * (0.85 + 0.15 * c);
+    rgb += (cloud - rgb) * (t.detail * mask);
+  }
+  for (int c = 0; c < 3; ++c)
+    rgb[c] = clamp01(rgb[c]);
+  return rgb;
+}
+
+} // namespace
+
 Eigen::Vector3d Texture::evaluate(const Eigen::Vector2d& st) const {
+  if (pattern == Pattern::Photo)
+    return evaluatePhoto(*this, st);
+  if (pattern == Pattern::Sky)
+    return evaluateSky(*this, st);
   const double ca = std::cos(angle), sa = std::sin(angle);
   const double a = (ca * st.x() + sa * st.y()) * frequency;  // along the pattern direction
   const double b = (-sa * st.x() + ca * st.y()) * frequency; // across it
@@ -84,6 +138,9 @@ Eigen::Vector3d Texture::evaluate(const Eigen::Vector2d& st) const {
     p = std::abs(2.0 * (w - std::floor(w)) - 1.0);
     break;
   }
+  case Pattern::Photo:
+  case Pattern::Sky:
+    break; // handled above
   }
   Eigen::Vector3d rgb = colourA + (colourB - colourA) * p;
   if (detail > 0) {
@@ -135,6 +192,57 @@ Texture randomTexture(Random& rng, double unitsPerPixel, double minPixels, doubl
   tex.frequency = 1.0 / (2.0 * pixels * unitsPerPixel);
   tex.angle = rng.uniform(0.0, M_PI);
   tex.detail = rng.uniform(0.15, 0.35);
+  tex.seed = rng.bits();
+  return tex;
+}
+
+Texture randomPhotoTexture(Random& rng, const std::vector<std::shared_ptr<const Photo>>& photos,
+                           double unitsPerPixel, bool upright, double minZoom, double maxZoom) {
+  if (photos.empty())
+    fail("randomPhotoTexture: no photos");
+  if (!(unitsPerPixel > 0) || !(minZoom > 0) || !(maxZoom >= minZoom))
+    fail("randomPhotoTexture: units per pixel ", unitsPerPixel, ", zoom ", minZoom, " .. ",
+         maxZoom);
+  Texture tex;
+  tex.pattern = Pattern::Photo;
+  tex.detail = 0;
+  tex.photo = photos[size_t(rng.uniformInt(0, int(photos.size()) - 1))];
+  PhotoMapping& m = tex.mapping;
+  const double zoom = minZoom * std::pow(maxZoom / minZoom, rng.uniform());
+  m.scale = zoom / unitsPerPixel;
+  tex.angle = upright ? rng.uniform(-12.0, 12.0) * M_PI / 180.0 : rng.uniform(0.0, 2.0 * M_PI);
+  m.offset = Eigen::Vector2d(rng.uniform(0.0, double(tex.photo->width)),
+                             rng.uniform(0.0, double(tex.photo->height)));
+  m.mirror = rng.chance(0.5);
+  for (int c = 0; c < 3; ++c)
+    m.gain[c] = std::min(1.25, std::max(0.8, std::exp(0.08 * rng.normal())));
+  m.saturation = rng.chance(0.05) ? 0.0 : rng.uniform(0.6, 1.3);
+  m.contrast = rng.uniform(0.75, 1.25);
+  m.brightness = rng.uniform(-0.08, 0.08);
+  tex.seed = rng.bits();
+  return tex;
+}
+
+Texture randomSkyTexture(Random& rng) {
+  Texture tex;
+  tex.pattern = Pattern::Sky;
+  const double kind = rng.uniform();
+  if (kind < 0.5) { // clear: deep blue above, pale blue at the horizon
+    const double hue = rng.uniform(0.55, 0.64);
+    tex.colourA = hsvToRgb(hue, rng.uniform(0.45, 0.8), rng.uniform(0.55, 0.85));
+    tex.colourB =
+        hsvToRgb(hue + rng.uniform(-0.03, 0.03), rng.uniform(0.1, 0.35), rng.uniform(0.8, 0.97));
+  } else if (kind < 0.8) { // overcast
+    const double v = rng.uniform(0.55, 0.9);
+    tex.colourA = hsvToRgb(rng.uniform(0.55, 0.65), rng.uniform(0.0, 0.12), v);
+    tex.colourB = hsvToRgb(rng.uniform(0.55, 0.65), rng.uniform(0.0, 0.08),
+                           std::min(0.98, v + rng.uniform(0.0, 0.12)));
+  } else { // dusk: blue-violet above, warm horizon
+    tex.colourA = hsvToRgb(rng.uniform(0.6, 0.75), rng.uniform(0.3, 0.6), rng.uniform(0.35, 0.7));
+    tex.colourB = hsvToRgb(rng.uniform(0.02, 0.12), rng.uniform(0.3, 0.7), rng.uniform(0.75, 0.98));
+  }
+  tex.frequency = rng.uniform(1.5, 5.0); // cloud cycles per radian
+  tex.detail = rng.chance(0.3) ? 0.0 : rng.uniform(0.1, 0.8);
   tex.seed = rng.bits();
   return tex;
 }

@@ -2,6 +2,7 @@
 #include "simpli/model/training/config.h"
 
 #include "simpli/model/network/loader.h"
+#include "simpli/model/training/data.h"
 
 #include "io/json_object_reader.h"
 #include "simpli/error.h"
@@ -40,6 +41,41 @@ network::NetworkConfig resolveNetwork(const json& v, const std::string& source,
   if (!fs::exists(p))
     fail(source, ": field \"network\": network config '", p.string(), "' does not exist");
   return network::loadNetworkConfig(p.string());
+}
+
+std::string stringField(io::JsonObjectReader& f, const std::string& key,
+                        const std::string& fallback) {
+  const json* v = f.find(key);
+  if (!v)
+    return fallback;
+  if (!v->is_string())
+    fail(f.source(), ": ", f.where(key), " is ", io::jsonExcerpt(*v), ", expected a string");
+  return v->get<std::string>();
+}
+
+void readSynthetic(const json& object, const std::string& source, SyntheticConfig& out) {
+  io::JsonObjectReader f(object, source, "synthetic");
+  auto named = [&](const char* key) {
+    return source + ": field \"synthetic." + std::string(key) + "\"";
+  };
+  out.style = synthetic::parseSceneStyle(stringField(f, "style", toString(out.style)),
+                                         named("style") + " is");
+  out.textures = synthetic::parseTextureSet(stringField(f, "textures", toString(out.textures)),
+                                            named("textures") + " is");
+  f.readNumber("photo_probability", out.photoProbability);
+  out.photoDir = stringField(f, "photo_dir", out.photoDir);
+  if (const json* v = f.find("photos_required")) {
+    if (!v->is_boolean())
+      fail(named("photos_required"), " is ", io::jsonExcerpt(*v), ", expected true or false");
+    out.photosRequired = v->get<bool>();
+  }
+  f.readInteger("views", out.views);
+  f.readInteger("objects", out.objects);
+  f.readInteger("antialias", out.antialias);
+  const std::string size = stringField(f, "size", "");
+  if (!size.empty())
+    parseWidthHeight(size, named("size"), out.width, out.height);
+  f.finish();
 }
 
 } // namespace
@@ -129,6 +165,19 @@ void TrainingConfig::validate(const std::string& source) const {
   if (!(s.mixupLambdaMin >= 0 && s.mixupLambdaMin <= s.mixupLambdaMax && s.mixupLambdaMax <= 1))
     fail(source, ": field \"sampling.mixup_lambda\" = [", s.mixupLambdaMin, ", ", s.mixupLambdaMax,
          "]: need 0 <= low <= high <= 1");
+  const SyntheticConfig& y = synthetic;
+  if (!(y.photoProbability >= 0 && y.photoProbability <= 1))
+    bad("synthetic.photo_probability", y.photoProbability, "must be in [0, 1]");
+  if (y.views < 2 || y.views > 10000)
+    bad("synthetic.views", y.views, "must be 2 .. 10000 (training needs a source and a target)");
+  if (y.objects < 0 || y.objects > 1000)
+    bad("synthetic.objects", y.objects, "must be 0 .. 1000");
+  if (y.antialias < 1 || y.antialias > 16)
+    bad("synthetic.antialias", y.antialias, "must be 1 .. 16");
+  if ((y.width == 0) != (y.height == 0) || y.width % 16 != 0 || y.height % 16 != 0 || y.width < 0 ||
+      y.height < 0)
+    fail(source, ": field \"synthetic.size\" = \"", y.width, "x", y.height,
+         "\": width and height must be positive multiples of 16");
 }
 
 TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::string& source,
@@ -197,6 +246,8 @@ TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::strin
     f.readPair("mixup_lambda", sc.mixupLambdaMin, sc.mixupLambdaMax);
     f.finish();
   }
+  if (const json* s = top.find("synthetic"))
+    readSynthetic(*s, source, c.synthetic);
   top.finish();
   c.validate(source);
   return c;
@@ -234,6 +285,18 @@ std::string toJson(const TrainingConfig& c) {
                       {"zoom", s.zoomScales},
                       {"mixup_probability", s.mixupProbability},
                       {"mixup_lambda", {s.mixupLambdaMin, s.mixupLambdaMax}}};
+  const SyntheticConfig& y = c.synthetic;
+  root["synthetic"] = {{"style", synthetic::toString(y.style)},
+                       {"textures", synthetic::toString(y.textures)},
+                       {"photo_probability", y.photoProbability},
+                       {"photo_dir", y.photoDir},
+                       {"photos_required", y.photosRequired},
+                       {"views", y.views},
+                       {"objects", y.objects},
+                       {"antialias", y.antialias},
+                       {"size", y.width > 0
+                                    ? std::to_string(y.width) + "x" + std::to_string(y.height)
+                                    : std::string()}};
   return root.dump(2) + "\n";
 }
 

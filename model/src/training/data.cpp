@@ -2,9 +2,11 @@
 #include "simpli/model/training/data.h"
 
 #include "simpli/error.h"
+#include "simpli/model/synthetic/photos.h"
 #include "simpli/model/synthetic/procedural_source.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -68,7 +70,8 @@ private:
 
 class SyntheticData : public TrainingData {
 public:
-  SyntheticData(uint64_t seed, const DataOptions& o) : seed_(seed), source_(params(o), seed) {}
+  SyntheticData(uint64_t seed, const DataOptions& o)
+      : seed_(seed), source_(params(o, textureNote_), seed) {}
   uint64_t sceneCount() const override { return 0; }
   const scene::Scene& scene(uint64_t index) override {
     if (!current_ || currentIndex_ != index) {
@@ -78,21 +81,56 @@ public:
     return *current_;
   }
   std::string describe() const override {
-    return "synthetic scenes (seed " + std::to_string(seed_) + ", " +
-           std::to_string(source_.params().width) + "x" + std::to_string(source_.params().height) +
-           ")";
+    const synthetic::SyntheticSceneParams& p = source_.params();
+    return "synthetic scenes (seed " + std::to_string(seed_) + ", " + synthetic::toString(p.style) +
+           " style, " + std::to_string(p.views) + " views of " + std::to_string(p.width) + "x" +
+           std::to_string(p.height) + ", " + textureNote_ + ")";
   }
 
 private:
-  static synthetic::SyntheticSceneParams params(const DataOptions& o) {
+  static synthetic::SyntheticSceneParams params(const DataOptions& o, std::string& note) {
+    const SyntheticConfig& c = o.synthetic;
     synthetic::SyntheticSceneParams p;
+    p.style = c.style;
+    p.views = c.views;
+    p.objects = c.objects;
+    p.antialias = c.antialias;
+    p.photoProbability = c.photoProbability;
+    if (c.height > 0 && c.width > 0) {
+      p.height = c.height;
+      p.width = c.width;
+    }
     if (o.height > 0 && o.width > 0) {
       p.height = o.height;
       p.width = o.width;
     }
+    note = "procedural textures";
+    if (c.textures == synthetic::TextureSet::Photo) {
+      p.photos = synthetic::PhotoLibrary::cached(c.photoDir);
+      const std::string where =
+          c.photoDir.empty() ? "the Debian photo packages" : "'" + c.photoDir + "'";
+      if (p.photos->empty()) {
+        if (c.photosRequired)
+          fail(o.configSource,
+               ": field \"synthetic.textures\" is \"photo\", but no photographs "
+               "were found in ",
+               where, "; ",
+               c.photoDir.empty() ? synthetic::photoInstallHint() : "add .jpg or .png files",
+               ", or set \"synthetic.photos_required\": false to fall back to procedural "
+               "textures");
+        note = "procedural textures: NO PHOTOGRAPHS FOUND in " + where + " (" +
+               (c.photoDir.empty() ? synthetic::photoInstallHint() : "add .jpg or .png files") +
+               ")";
+      } else {
+        p.textures = synthetic::TextureSet::Photo;
+        note = "photo textures on " + std::to_string(int(std::lround(100 * c.photoProbability))) +
+               " % of the surfaces: " + p.photos->describe();
+      }
+    }
     return p;
   }
   uint64_t seed_;
+  std::string textureNote_;
   synthetic::ProceduralSceneSource source_;
   std::optional<scene::Scene> current_;
   uint64_t currentIndex_ = 0;

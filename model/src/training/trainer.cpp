@@ -95,11 +95,25 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
 
   // Everything that can fail on bad input (data, VGG file) is checked before a new run
   // creates its folder, so a failed start leaves nothing behind.
-  data_ = openTrainingData(options_.data, options_.dataOptions);
+  DataOptions dataOptions = options_.dataOptions;
+  dataOptions.synthetic = config_.synthetic;
+  if (options_.resume)
+    dataOptions.configSource = configPath;
+  data_ = openTrainingData(options_.data, dataOptions);
   data_->scene(0); // reads (and checks) the first scene
   if (!options_.vggPath.empty() && config_.weight("perceptual") > 0)
     vgg_ = Vgg19Features(options_.vggPath, config_.dtype);
   network_ = std::make_unique<network::SimpliNetwork>(config_.network, config_.dtype, config_.seed);
+  if (!options_.initWeights.empty()) {
+    if (options_.resume)
+      fail("--init-weights '", options_.initWeights,
+           "': a resumed run continues from its own checkpoint; warm-start a new run instead");
+    const network::LoadReport r = network_->parameters().load(options_.initWeights);
+    say("initial weights: " + options_.initWeights + " (" + std::to_string(r.loaded) + " tensors" +
+        (r.unexpected.empty() ? std::string()
+                              : ", " + std::to_string(r.unexpected.size()) + " unused") +
+        ")");
+  }
   generator_ = std::make_unique<generator::Generator>(*network_);
   const OptimizerConfig& o = config_.optimizer;
   adam_ = std::make_unique<ocl::Adam>(network_->parameters().parameters(), o.lr, o.beta1, o.beta2,

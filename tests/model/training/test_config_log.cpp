@@ -127,6 +127,85 @@ TEST(TrainConfig, ResolvesNamesAndFilesAsTheCliAndTheFilterDo) {
   test::expectError([] { resolveTrainingConfig("/nowhere/c.json"); }, {"/nowhere/c.json"});
 }
 
+TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
+  const TrainingConfig d = parseTrainingConfig(R"({"network": "official-4l"})", "t.json", "");
+  // Without the section: the generator's own defaults (the scenes training always used).
+  EXPECT_EQ(d.synthetic.style, synthetic::SceneStyle::Objects);
+  EXPECT_EQ(d.synthetic.textures, synthetic::TextureSet::Procedural);
+  EXPECT_EQ(d.synthetic.views, 12);
+  EXPECT_EQ(d.synthetic.objects, 8);
+  EXPECT_EQ(d.synthetic.antialias, 4);
+  EXPECT_EQ(d.synthetic.width, 0);
+  EXPECT_TRUE(d.synthetic.photosRequired);
+  const TrainingConfig c = parseTrainingConfig(
+      R"({"network": "official-4l",
+          "synthetic": {"style": "world", "textures": "photo", "photo_probability": 0.5,
+                        "photo_dir": "/photos", "photos_required": false, "views": 16,
+                        "objects": 5, "antialias": 2, "size": "256x192"}})",
+      "t.json", "");
+  EXPECT_EQ(c.synthetic.style, synthetic::SceneStyle::World);
+  EXPECT_EQ(c.synthetic.textures, synthetic::TextureSet::Photo);
+  EXPECT_DOUBLE_EQ(c.synthetic.photoProbability, 0.5);
+  EXPECT_EQ(c.synthetic.photoDir, "/photos");
+  EXPECT_FALSE(c.synthetic.photosRequired);
+  EXPECT_EQ(c.synthetic.views, 16);
+  EXPECT_EQ(c.synthetic.objects, 5);
+  EXPECT_EQ(c.synthetic.antialias, 2);
+  EXPECT_EQ(c.synthetic.width, 256);
+  EXPECT_EQ(c.synthetic.height, 192);
+  const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
+  EXPECT_EQ(toJson(back), toJson(c));
+  EXPECT_EQ(toJson(parseTrainingConfig(toJson(d), "back", "")), toJson(d));
+  // A resumed run must keep its scenes.
+  EXPECT_EQ(firstIncompatibleField(c, back), "");
+  TrainingConfig other = c;
+  other.synthetic.style = synthetic::SceneStyle::Objects;
+  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
+}
+
+TEST(TrainConfig, SyntheticSectionBadFieldsAreNamed) {
+  using test::expectError;
+  auto parse = [](const std::string& section) {
+    return [section] {
+      parseTrainingConfig(R"({"network": "official-4l", "synthetic": )" + section + "}",
+                          "w.json", "");
+    };
+  };
+  expectError(parse(R"({"style": "wrold"})"),
+              {"w.json", "field \"synthetic.style\"", "'wrold'", "\"world\""});
+  expectError(parse(R"({"textures": "photos"})"),
+              {"w.json", "field \"synthetic.textures\"", "'photos'", "\"photo\""});
+  expectError(parse(R"({"textures": 3})"),
+              {"w.json", "field \"synthetic.textures\"", "is 3", "expected a string"});
+  expectError(parse(R"({"photo_probability": 1.5})"),
+              {"w.json", "\"synthetic.photo_probability\" = 1.5"});
+  expectError(parse(R"({"photos_required": "yes"})"),
+              {"w.json", "\"synthetic.photos_required\"", "\"yes\"", "true or false"});
+  expectError(parse(R"({"views": 1})"), {"w.json", "\"synthetic.views\" = 1"});
+  expectError(parse(R"({"antialias": 0})"), {"w.json", "\"synthetic.antialias\" = 0"});
+  expectError(parse(R"({"objects": -1})"), {"w.json", "\"synthetic.objects\" = -1"});
+  expectError(parse(R"({"size": "250x190"})"),
+              {"w.json", "\"synthetic.size\"", "250x190", "multiples of 16"});
+  expectError(parse(R"({"size": "big"})"), {"w.json", "\"synthetic.size\"", "'big'"});
+  expectError(parse(R"({"sky": true})"), {"w.json", "sky"});
+  expectError(parse(R"("world")"), {"w.json", "synthetic"});
+}
+
+TEST(TrainConfig, ShippedWorldRecipe) {
+  const TrainingConfig c = resolveTrainingConfig("tiny-world");
+  EXPECT_EQ(c.network.name, "tiny");
+  EXPECT_EQ(c.synthetic.style, synthetic::SceneStyle::World);
+  EXPECT_EQ(c.synthetic.textures, synthetic::TextureSet::Photo);
+  EXPECT_EQ(c.synthetic.width, 256);
+  EXPECT_EQ(c.synthetic.height, 192);
+  EXPECT_GT(c.sampling.window, 0);
+  EXPECT_LT(c.sampling.window, c.synthetic.views); // windows of a longer path
+  // The shipped tiny recipe keeps the scenes it was trained on.
+  const TrainingConfig tiny = resolveTrainingConfig("tiny");
+  EXPECT_EQ(tiny.synthetic.style, synthetic::SceneStyle::Objects);
+  EXPECT_EQ(tiny.synthetic.textures, synthetic::TextureSet::Procedural);
+}
+
 TEST(TrainLog, AppendsAndCutsBackOnResume) {
   const fs::path dir = tempDir("log");
   const std::string path = (dir / "log.csv").string();

@@ -12,6 +12,7 @@
 // On other devices the same comparison would need a tolerance.
 #include "support/expect_error.h"
 
+#include "simpli/model/network/network.h"
 #include "simpli/model/training/checkpoint.h"
 #include "simpli/model/training/data.h"
 #include "simpli/model/training/eval.h"
@@ -223,6 +224,46 @@ TEST(TrainTrainer, RunFolderRules) {
   other.optimizer.lr = 1.0;
   test::expectError([&] { Trainer(&other, o); }, {"differs", "optimizer"});
   fs::remove_all(run);
+}
+
+// --init-weights: a new run starts from the given weights instead of its seed's initialisation;
+// a missing file or a resumed run is a named error before anything is written.
+TEST(TrainTrainer, InitWeightsWarmStartANewRun) {
+  const TrainingConfig cfg = tinyConfig(0, 1);
+  const fs::path dir = tempRun("init");
+  fs::create_directories(dir);
+  const std::string weights = (dir / "start.safetensors").string();
+  network::SimpliNetwork other(cfg.network, cfg.dtype, /*seed*/ 99);
+  other.parameters().save(weights);
+
+  TrainerOptions o = options(dir / "run");
+  o.initWeights = weights;
+  std::vector<std::string> said;
+  o.message = [&](const std::string& m) { said.push_back(m); };
+  Trainer t(&cfg, o);
+  const network::ParameterStore& got = t.network().parameters();
+  const network::ParameterStore& want = other.parameters();
+  ASSERT_EQ(got.names(), want.names());
+  for (const std::string& name : want.names())
+    ASSERT_EQ(got.get(name).toVector(), want.get(name).toVector()) << name;
+  bool reported = false;
+  for (const std::string& m : said)
+    reported = reported || m.find("initial weights: " + weights) != std::string::npos;
+  EXPECT_TRUE(reported);
+  // Without the option the seed's own initialisation differs.
+  Trainer plain(&cfg, options(dir / "plain"));
+  EXPECT_NE(plain.network().parameters().get(want.names()[0]).toVector(),
+            want.get(want.names()[0]).toVector());
+
+  TrainerOptions missing = options(dir / "missing");
+  missing.initWeights = (dir / "none.safetensors").string();
+  test::expectError([&] { Trainer(&cfg, missing); }, {"none.safetensors"});
+  EXPECT_FALSE(fs::exists(dir / "missing"));
+  TrainerOptions resumed = options(dir / "run");
+  resumed.resume = true;
+  resumed.initWeights = weights;
+  test::expectError([&] { Trainer(nullptr, resumed); }, {"--init-weights", "resumed run"});
+  fs::remove_all(dir);
 }
 
 // Training on one scene at 32 x 48 with a constant learning rate; the held-out views of fixed

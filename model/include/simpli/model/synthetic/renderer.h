@@ -7,9 +7,10 @@
 //    up to double rounding (stored as float); 0 where the ray hits nothing.
 //  * Colour: mean of antialias x antialias stratified samples with deterministic jitter
 //    (hashed from the scene seed, view and pixel), each the procedural texture at the hit's
-//    surface coordinates times a view-independent Lambert factor; rays that hit nothing are
-//    mid-grey (the reference's "no geometry" value 0 in [-1, 1]). Quantised to 8 bits, as an
-//    image file would hold it.
+//    surface coordinates times a view-independent Lambert factor; rays that hit nothing see
+//    the scene's sky (at infinity: its colour depends on the ray direction only) or, without
+//    sky, mid-grey (the reference's "no geometry" value 0 in [-1, 1]). Quantised to 8 bits,
+//    as an image file would hold it.
 #include "simpli/model/io/image.h"
 #include "simpli/model/synthetic/scene.h"
 
@@ -39,6 +40,10 @@ SurfaceHit castRay(const SyntheticScene& scene, const Ray& ray);
 /// RGB in [0, 1] of a hit: its shape's texture times 0.55 + 0.45 * max(0, n . light) (planes
 /// and rectangles are two-sided: |n . light|).
 Eigen::Vector3d shadeHit(const SyntheticScene& scene, const SurfaceHit& hit);
+
+/// RGB in [0, 1] of a ray that hits nothing: the sky at (azimuth, elevation) of its world
+/// direction (atan2(x, z), atan2(-y, hypot(x, z))), or mid-grey without sky.
+Eigen::Vector3d missColour(const SyntheticScene& scene, const Ray& ray);
 
 /// Renders one camera; `jitterSeed` fixes the anti-aliasing sample positions.
 RenderedView renderView(const SyntheticScene& scene, const scene::Camera& camera,

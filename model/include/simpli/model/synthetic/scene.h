@@ -1,9 +1,18 @@
 #pragma once
-// Random forward-facing scenes with exact geometry: a textured background plane (fronto-
-// parallel or slanted) and textured objects in front of it — fronto-parallel and slanted
-// rectangles, boxes, spheres, and thin poles and wires (thin cylinders) — at random depths,
-// overlapping so that nearer objects occlude farther ones; plus a handheld-like path of cameras
-// looking along +z (camera_path.h). Everything follows from the seed (random.h explains why
+// Random forward-facing scenes with exact geometry, in one of two styles:
+//  * "objects" (the default, SceneStyle::Objects): a textured background plane (fronto-
+//    parallel or slanted) and textured objects in front of it — fronto-parallel and slanted
+//    rectangles, boxes, spheres, and thin poles and wires (thin cylinders) — at random depths,
+//    overlapping so that nearer objects occlude farther ones;
+//  * "world" (SceneStyle::World, FlyingThings-like, docs/training_data.md): per scene a
+//    horizontal field of view in [fovDegreesMin, fovDegreesMax], a far layer at 10 .. 100 x
+//    the nearest depth (a full background plane, or a skyline of distant walls under a sky at
+//    infinity), large occluding planes and objects at disparity-uniform depths with the nearest
+//    one at the near depth, and thin structures (poles, posts, wires, branches of thin boxes);
+//    the camera baseline is a few percent of the nearest depth.
+// plus a handheld-like path of cameras looking along +z (camera_path.h). Surfaces carry
+// procedural textures (texture.h) or, with TextureSet::Photo, photographs (photos.h) on a
+// fraction photoProbability of them. Everything follows from the seed (random.h explains why
 // the distributions are our own).
 //
 // Units and frames: world = the OpenCV frame of the mean camera (x right, y down, z forward),
@@ -15,9 +24,35 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 namespace simpli::synthetic {
+
+class PhotoLibrary;
+
+enum class SceneStyle { Objects, World };
+enum class TextureSet { Procedural, Photo };
+
+const char* toString(SceneStyle style);
+const char* toString(TextureSet textures);
+/// "objects" / "world"; throws simpli::Error "<what> '<text>': expected ..." otherwise.
+SceneStyle parseSceneStyle(const std::string& text, const std::string& what);
+/// "procedural" / "photo"; throws simpli::Error "<what> '<text>': expected ..." otherwise.
+TextureSet parseTextureSet(const std::string& text, const std::string& what);
+
+/// Ranges of the world style, drawn once per scene (SyntheticScene::world records the draw).
+struct WorldStyleParams {
+  double fovDegreesMin = 50.0, fovDegreesMax = 70.0; ///< horizontal field of view, uniform
+  /// Depth of the far layer / nearDepth, log-uniform: near/far ratios of 1:10 .. 1:100.
+  double farRatioMin = 10.0, farRatioMax = 100.0;
+  double skyProbability = 0.6; ///< scenes with a sky at infinity above a skyline
+  /// Largest distance of a camera centre from the mean centre / nearDepth, log-uniform.
+  double translationMin = 0.01, translationMax = 0.05;
+  double rotationDegreesMax = 2.0; ///< bound on yaw, pitch, roll: 0.25 .. 1 x this per scene
+  int thinStructuresMin = 1, thinStructuresMax = 4; ///< poles, posts, wires, branches
+};
 
 struct SyntheticSceneParams {
   uint64_t seed = 0;
@@ -34,18 +69,45 @@ struct SyntheticSceneParams {
   double translation = 0.04;
   double rotationDegrees = 1.5; ///< bound on each camera's yaw, pitch and roll
   int antialias = 4;            ///< antialias^2 jittered samples per pixel (1 = centre only)
+  SceneStyle style = SceneStyle::Objects;
+  /// Photo: each surface gets a photo texture with probability photoProbability (else a
+  /// procedural one) when `photos` holds photographs; without photos the scene falls back to
+  /// procedural textures (and records TextureSet::Procedural).
+  TextureSet textures = TextureSet::Procedural;
+  double photoProbability = 0.85;
+  std::shared_ptr<const PhotoLibrary> photos;
+  /// The world style's ranges; with it, fovDegrees, translation, rotationDegrees and the
+  /// background depths above are not used (each scene draws its own from these).
+  WorldStyleParams world;
 
   /// Throws simpli::Error naming the field and value when a parameter is out of range.
   void validate() const;
+  /// Whether surfaces get photo textures (textures == Photo and photos holds photographs).
+  bool usesPhotos() const;
   /// Relative focal lengths for square pixels: fx = 0.5 / tan(fov / 2), fy = fx * width / height.
   double fx() const;
   double fy() const;
 };
 
+/// What a world-style scene drew from its WorldStyleParams ranges.
+struct WorldLayout {
+  double fovDegrees = 0;      ///< horizontal field of view
+  double farDepth = 0;        ///< depth of the far layer on the optical axis (scene units)
+  double translation = 0;     ///< largest camera offset from the mean centre / nearDepth
+  double rotationDegrees = 0; ///< bound on the cameras' yaw, pitch, roll
+  bool sky = false;           ///< a sky at infinity above a skyline of distant walls
+};
+
 struct SyntheticScene {
-  SyntheticSceneParams params;
-  Shape background; ///< ShapeKind::Plane
+  SyntheticSceneParams params; ///< as given (validated); textures as used
+  /// ShapeKind::Plane (objects style, and world style without sky), else (world style with
+  /// sky) the farthest wall of the skyline, a Rectangle reaching from below the images to a
+  /// top edge inside them.
+  Shape background;
   std::vector<Shape> objects;
+  bool hasSky = false; ///< rays that hit nothing see `sky` (depth 0 = infinity), else grey
+  Texture sky;         ///< Pattern::Sky or Pattern::Photo, evaluated at (azimuth, elevation)
+  WorldLayout world;   ///< world style: the per-scene draw
   Eigen::Vector3d lightDirection = Eigen::Vector3d(0, 0, -1); ///< unit, towards the light
   std::vector<scene::Camera> cameras;
 

@@ -23,7 +23,20 @@ enum class ShapeKind {
 };
 
 /// What the generator meant a shape to be (recorded in scene.json; used by tests).
-enum class ShapeRole { Background, FrontoPlane, SlantedPlane, Box, Sphere, Pole, Wire };
+/// Distant: a wall of the world style's skyline; Post: a thin vertical box; Branch: a thin box
+/// of a branch (a limb and its twigs).
+enum class ShapeRole {
+  Background,
+  FrontoPlane,
+  SlantedPlane,
+  Box,
+  Sphere,
+  Pole,
+  Wire,
+  Distant,
+  Post,
+  Branch
+};
 
 const char* toString(ShapeKind kind);
 const char* toString(ShapeRole role);

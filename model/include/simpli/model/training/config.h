@@ -25,9 +25,17 @@
 //   "sampling": {"min_views": 2, "max_views": 8, "novel_views": 4, "window": 0,
 //                "crop": [0, 0],            // [height, width]; 0 = the whole image
 //                "zoom": [1.0],             // zoom factors >= 1, one drawn per sample
-//                "mixup_probability": 0.9, "mixup_lambda": [0.0, 0.4]}
+//                "mixup_probability": 0.9, "mixup_lambda": [0.0, 0.4]},
+//   "synthetic": {"style": "objects" | "world",   // the scenes of data synthetic[:SEED]
+//                 "textures": "procedural" | "photo", "photo_probability": 0.85,
+//                 "photo_dir": "",                  // "" = the Debian photo packages
+//                 "photos_required": true,          // photo textures but no photos: error
+//                                                   // (true) or procedural + notice (false)
+//                 "views": 12, "objects": 8, "antialias": 4,
+//                 "size": "192x128"}                // WxH; --size overrides; "" = 192x128
 // }
 #include "simpli/model/network/config.h"
+#include "simpli/model/synthetic/scene.h"
 
 #include "simpli/ocl/program_cache.h"
 
@@ -61,6 +69,23 @@ struct SamplingConfig {
   double mixupLambdaMin = 0.0, mixupLambdaMax = 0.4;
 };
 
+/// The procedural scenes of `simpli train synthetic[:SEED]` (synthetic/scene.h; ignored for
+/// scene folders). The defaults are the generator's, so a config without the section trains
+/// on the scenes it always did.
+struct SyntheticConfig {
+  synthetic::SceneStyle style = synthetic::SceneStyle::Objects;
+  synthetic::TextureSet textures = synthetic::TextureSet::Procedural;
+  double photoProbability = 0.85; ///< per surface, with photo textures
+  std::string photoDir;           ///< photos from this folder; "" = the Debian photo packages
+  /// Photo textures asked for but no photographs found: true = an error naming the config
+  /// field and how to install them; false = procedural textures and a one-line notice.
+  bool photosRequired = true;
+  int views = 12;  ///< frames per scene (a camera path the sampler draws windows from)
+  int objects = 8; ///< objects (objects style) or occluders (world style)
+  int antialias = 4;
+  int width = 0, height = 0; ///< 0 = the generator's 192 x 128; --size overrides
+};
+
 /// The loss terms, in log order, with the reference's key names.
 const std::vector<std::string>& lossTermNames();
 
@@ -78,6 +103,7 @@ struct TrainingConfig {
   OptimizerConfig optimizer;
   std::map<std::string, double> lossWeights; ///< every lossTermNames() key
   SamplingConfig sampling;
+  SyntheticConfig synthetic;
 
   TrainingConfig(); ///< the defaults above; `network` is NetworkConfig{} until set
   double weight(const std::string& term) const;

@@ -3,6 +3,7 @@
 // understands), a single scene folder, or the procedural synthetic source ("synthetic" or
 // "synthetic:SEED": endless random scenes generated in memory).
 #include "simpli/model/scene/scene.h"
+#include "simpli/model/training/config.h"
 
 #include <cstdint>
 #include <memory>
@@ -17,6 +18,11 @@ struct DataOptions {
   /// Scene folders: read images_<factor> (LLFF / NeRF layout); 0 = the folder whose images are
   /// closest to `width` when that is given, else images/ (scene::chooseImageFolder).
   int imagesFactor = 0;
+  /// The synthetic source's scenes (a training config's "synthetic" section); height / width
+  /// above, when given, override its size.
+  SyntheticConfig synthetic;
+  /// Names the config in errors about the synthetic section (its file or name).
+  std::string configSource = "training config";
 };
 
 class TrainingData {
@@ -32,7 +38,10 @@ public:
 
 /// Opens `spec` (see the header comment). Folder scenes are read lazily and kept in memory.
 /// Throws simpli::Error naming the path when it does not exist, holds no scene, or a subfolder
-/// is not a readable scene.
+/// is not a readable scene; for synthetic data with photo textures, reads the photographs once
+/// (synthetic::PhotoLibrary::cached) and, when there are none, throws an error naming
+/// options.configSource, the field and how to install them (photos_required) or falls back
+/// to procedural textures, saying so in describe().
 std::unique_ptr<TrainingData> openTrainingData(const std::string& spec,
                                                const DataOptions& options = {});
 

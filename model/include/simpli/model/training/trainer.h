@@ -46,6 +46,9 @@ struct TrainerOptions {
   int64_t steps = -1;           ///< total steps of the run; -1 = the config's
   int64_t checkpointEvery = -1; ///< -1 = the config's
   std::string vggPath;          ///< VGG-19 weights for the perceptual loss; empty = off
+  /// A new run starts from these weights (safetensors, every parameter of the config's
+  /// network) instead of a random initialisation; empty = random. Not with `resume`.
+  std::string initWeights;
   DataOptions dataOptions;
   std::optional<uint64_t> seed; ///< overrides the config's seed (a new run only)
   /// Polled between steps; true stops the run after a checkpoint.

@@ -1,0 +1,246 @@
+// The world style of the synthetic scenes (synthetic/scene.h, scene_world.cpp): over many
+// seeds, the stated ranges of field of view, near / far ratio, sky, baseline relative to the
+// nearest depth, rotations and thin structures hold on the rendered depth maps themselves.
+#include "simpli/model/scene/scene.h"
+#include "simpli/model/synthetic/camera_path.h"
+#include "simpli/model/synthetic/renderer.h"
+#include "simpli/model/synthetic/scene_writer.h"
+
+#include "support/expect_error.h"
+#include "synthetic_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+using namespace simpli::synthetic;
+using Eigen::Vector3d;
+using simpli::test::expectError;
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+constexpr int kSeeds = 40;
+
+SyntheticSceneParams worldParams(uint64_t seed, int width = 64, int height = 48) {
+  SyntheticSceneParams p;
+  p.style = SceneStyle::World;
+  p.seed = seed;
+  p.width = width;
+  p.height = height;
+  p.views = 4;
+  p.antialias = 1;
+  return p;
+}
+
+bool isThin(ShapeRole r) {
+  return r == ShapeRole::Pole || r == ShapeRole::Post || r == ShapeRole::Wire ||
+         r == ShapeRole::Branch;
+}
+
+struct DepthStats {
+  double nearest = std::numeric_limits<double>::infinity(), farthest = 0;
+  size_t sky = 0, pixels = 0;
+};
+
+DepthStats depthStats(const std::vector<RenderedView>& views) {
+  DepthStats d;
+  for (const RenderedView& v : views)
+    for (float z : v.depth) {
+      ++d.pixels;
+      if (z == 0) {
+        ++d.sky;
+        continue;
+      }
+      d.nearest = std::min(d.nearest, double(z));
+      d.farthest = std::max(d.farthest, double(z));
+    }
+  return d;
+}
+
+} // namespace
+
+TEST(WorldStyle, RangesHoldOverManySeeds) {
+  const WorldStyleParams w;
+  int skies = 0, thinScenes = 0;
+  double minRatio = 1e9, maxRatio = 0, minFov = 1e9, maxFov = 0, sumBaseline = 0;
+  for (uint64_t seed = 0; seed < kSeeds; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const SyntheticSceneParams p = worldParams(seed);
+    const SyntheticScene s = generateSyntheticScene(p);
+    const WorldLayout& l = s.world;
+    const DepthStats d = depthStats(renderViews(s));
+
+    // Field of view: every camera's horizontal FOV is the drawn one, in [50, 70] degrees.
+    EXPECT_GE(l.fovDegrees, w.fovDegreesMin);
+    EXPECT_LE(l.fovDegrees, w.fovDegreesMax);
+    for (const simpli::scene::Camera& c : s.cameras) {
+      EXPECT_NEAR(2 * std::atan(0.5 / c.fx) / kDeg, l.fovDegrees, 1e-9);
+      EXPECT_NEAR(c.fx * c.width, c.fy * c.height, 1e-9); // square pixels
+    }
+    minFov = std::min(minFov, l.fovDegrees);
+    maxFov = std::max(maxFov, l.fovDegrees);
+
+    // The nearest surface is at the near depth (object 0), give or take the camera motion.
+    ASSERT_TRUE(std::isfinite(d.nearest));
+    EXPECT_GE(d.nearest, 0.9 * p.nearDepth);
+    EXPECT_LE(d.nearest, 1.25 * p.nearDepth);
+    for (const Shape& o : s.objects)
+      EXPECT_GE(o.centre.z() - o.extent(-Vector3d::UnitZ()), p.nearDepth * (1 - 1e-12))
+          << toString(o.role);
+
+    // Near / far: the far layer at 10 .. 100 x the near depth; what the views see of it.
+    EXPECT_GE(l.farDepth, w.farRatioMin * p.nearDepth * (1 - 1e-12));
+    EXPECT_LE(l.farDepth, w.farRatioMax * p.nearDepth * (1 + 1e-12));
+    const double ratio = d.farthest / d.nearest;
+    EXPECT_GE(ratio, 0.5 * w.farRatioMin);
+    EXPECT_LE(ratio, 1.8 * w.farRatioMax);
+    minRatio = std::min(minRatio, ratio);
+    maxRatio = std::max(maxRatio, ratio);
+
+    // Sky at infinity (depth 0) exactly in the scenes that have one, covering part of the views.
+    EXPECT_EQ(s.hasSky, l.sky);
+    if (l.sky) {
+      ++skies;
+      EXPECT_EQ(s.sky.pattern, Pattern::Sky);
+      EXPECT_GT(d.sky, d.pixels / 100);
+      EXPECT_LT(d.sky, d.pixels * 9 / 10);
+    } else {
+      EXPECT_EQ(d.sky, 0u);
+      EXPECT_EQ(s.background.kind, ShapeKind::Plane);
+    }
+
+    // Handheld rig: the farthest camera centre lies translation x near depth from the mean,
+    // a few % of the nearest depth seen; small rotations.
+    double farthestCentre = 0;
+    for (const simpli::scene::Camera& c : s.cameras) {
+      farthestCentre = std::max(farthestCentre, c.centre().norm());
+      const Vector3d ypr = yawPitchRoll(c.R.transpose());
+      EXPECT_LE(ypr.cwiseAbs().maxCoeff(), l.rotationDegrees * kDeg + 1e-12);
+    }
+    EXPECT_NEAR(farthestCentre, l.translation * p.nearDepth, 1e-12);
+    EXPECT_GE(l.translation, w.translationMin);
+    EXPECT_LE(l.translation, w.translationMax);
+    EXPECT_LE(l.rotationDegrees, w.rotationDegreesMax);
+    const double baseline = farthestCentre / d.nearest;
+    EXPECT_GE(baseline, 0.005);
+    EXPECT_LE(baseline, 0.06);
+    sumBaseline += baseline;
+
+    // Occluders and thin structures.
+    int thin = 0;
+    for (const Shape& o : s.objects)
+      thin += isThin(o.role);
+    EXPECT_GE(thin, w.thinStructuresMin);
+    thinScenes += thin > 0;
+  }
+  // The draws spread over their ranges.
+  EXPECT_GT(skies, kSeeds / 4);
+  EXPECT_LT(skies, kSeeds * 9 / 10);
+  EXPECT_EQ(thinScenes, kSeeds);
+  EXPECT_LT(minRatio, 20.0);
+  EXPECT_GT(maxRatio, 60.0);
+  EXPECT_LT(minFov, 54.0);
+  EXPECT_GT(maxFov, 66.0);
+  EXPECT_GT(sumBaseline / kSeeds, 0.01);
+  EXPECT_LT(sumBaseline / kSeeds, 0.04);
+}
+
+TEST(WorldStyle, ThinStructuresAreThin) {
+  // Poles, posts, wires and branches are at most 5 pixels thick where they stand.
+  int thinSeen = 0;
+  for (uint64_t seed = 0; seed < 20; ++seed) {
+    const SyntheticScene s = generateSyntheticScene(worldParams(seed));
+    const double fx = s.cameras[0].fx;
+    for (const Shape& o : s.objects) {
+      if (!isThin(o.role))
+        continue;
+      const double pixel = o.centre.z() / (fx * s.params.width);
+      const double thickness =
+          o.kind == ShapeKind::Cylinder ? 2 * o.size.x() : 2 * std::min(o.size.y(), o.size.x());
+      EXPECT_LE(thickness / pixel, 5.0 + 1e-9) << toString(o.role) << " seed " << seed;
+      ++thinSeen;
+    }
+  }
+  EXPECT_GT(thinSeen, 20);
+}
+
+TEST(WorldStyle, DeterministicPerSeed) {
+  const SyntheticSceneParams p = worldParams(11);
+  const SyntheticScene a = generateSyntheticScene(p), b = generateSyntheticScene(p);
+  EXPECT_EQ(sceneDescriptionJson(a, {}, 1), sceneDescriptionJson(b, {}, 1));
+  EXPECT_EQ(renderView(a, 1).rgb, renderView(b, 1).rgb);
+  EXPECT_NE(sceneDescriptionJson(a, {}, 1),
+            sceneDescriptionJson(generateSyntheticScene(worldParams(12)), {}, 1));
+  const std::string json = sceneDescriptionJson(a, {}, 1);
+  for (const char* part : {"\"style\": \"world\"", "\"world\": {", "\"far_depth\"",
+                           "\"fov_degrees\"", "--style world"})
+    EXPECT_NE(json.find(part), std::string::npos) << part;
+}
+
+TEST(WorldStyle, SkyIsAtInfinity) {
+  // The sky's colour depends only on the ray direction: a pure camera translation leaves the
+  // sky pixels unchanged, while every surface moves.
+  for (uint64_t seed = 0; seed < 40; ++seed) {
+    SyntheticSceneParams p = worldParams(seed);
+    const SyntheticScene s = generateSyntheticScene(p);
+    if (!s.hasSky)
+      continue;
+    simpli::scene::Camera moved = s.cameras[0];
+    moved.t += Vector3d(0.05, 0.02, 0.0); // centre moves, orientation stays
+    const RenderedView a = renderView(s, s.cameras[0], 1), b = renderView(s, moved, 1);
+    int compared = 0;
+    for (size_t i = 0; i < a.depth.size(); ++i)
+      if (a.depth[i] == 0 && b.depth[i] == 0) {
+        for (int c = 0; c < 3; ++c)
+          ASSERT_EQ(a.rgb[i * 3 + size_t(c)], b.rgb[i * 3 + size_t(c)]);
+        ++compared;
+      }
+    EXPECT_GT(compared, 0);
+    return;
+  }
+  FAIL() << "no seed with a sky";
+}
+
+TEST(WorldStyle, ParamsValidated) {
+  auto bad = [](auto change, std::initializer_list<std::string> parts) {
+    SyntheticSceneParams p = worldParams(0);
+    change(p);
+    expectError([&] { p.validate(); }, parts);
+    expectError([&] { generateSyntheticScene(p); }, parts);
+  };
+  bad([](auto& p) { p.world.fovDegreesMin = 10; }, {"'world.fovDegreesMin' is 10"});
+  bad([](auto& p) { p.world.fovDegreesMax = 40; }, {"'world.fovDegreesMax' is 40"});
+  bad([](auto& p) { p.world.farRatioMax = 5; }, {"'world.farRatioMax' is 5"});
+  bad([](auto& p) { p.world.skyProbability = -0.1; }, {"'world.skyProbability' is -0.1"});
+  bad([](auto& p) { p.world.translationMin = 0; }, {"'world.translationMin' is 0"});
+  bad([](auto& p) { p.world.rotationDegreesMax = 20; }, {"'world.rotationDegreesMax' is 20"});
+  bad([](auto& p) { p.world.thinStructuresMax = 0; }, {"'world.thinStructuresMax' is 0"});
+  bad([](auto& p) { p.height = 4000; }, {"far plane could be missed"});
+  SyntheticSceneParams sky = worldParams(0, 64, 4000);
+  sky.world.skyProbability = 1.0; // every ray that misses sees the sky: no such limit
+  EXPECT_NO_THROW(sky.validate());
+  expectError([] { parseSceneStyle("flyingthings", "--style"); },
+              {"--style 'flyingthings'", "\"objects\"", "\"world\""});
+  EXPECT_EQ(parseSceneStyle("world", "x"), SceneStyle::World);
+  EXPECT_EQ(parseSceneStyle("objects", "x"), SceneStyle::Objects);
+}
+
+TEST(WorldStyle, WrittenSceneReadsBack) {
+  simpli::test::TempDir tmp;
+  SyntheticSceneParams p = worldParams(5);
+  p.views = 3;
+  const SyntheticScene s = generateSyntheticScene(p);
+  const std::vector<RenderedView> views = renderViews(s);
+  const WrittenScene w = writeSyntheticScene(tmp.str("world"), s, views);
+  const simpli::scene::Scene back = simpli::scene::readScene(w.dir);
+  ASSERT_EQ(back.size(), 3u);
+  EXPECT_EQ(back.width(), 64);
+  // Bounds from the finite depths only (sky pixels are 0 = no surface): per view 0.9 x the
+  // nearest, 1.1 x the farthest; the scene's are the extremes over the views.
+  const DepthStats d = depthStats(views);
+  const double ratio = (1.1 / 0.9) * d.farthest / d.nearest;
+  EXPECT_NEAR(back.far / back.near, ratio, 1e-4 * ratio);
+}
