@@ -113,7 +113,7 @@ TEST(WorldStyle, RangesHoldOverManySeeds) {
     }
 
     // Handheld rig: the farthest camera centre lies translation x near depth from the mean,
-    // a few % of the nearest depth seen; small rotations.
+    // 1 .. 30 % of the nearest depth seen (as in LLFF captures); small rotations.
     double farthestCentre = 0;
     for (const simpli::scene::Camera& c : s.cameras) {
       farthestCentre = std::max(farthestCentre, c.centre().norm());
@@ -125,8 +125,8 @@ TEST(WorldStyle, RangesHoldOverManySeeds) {
     EXPECT_LE(l.translation, w.translationMax);
     EXPECT_LE(l.rotationDegrees, w.rotationDegreesMax);
     const double baseline = farthestCentre / d.nearest;
-    EXPECT_GE(baseline, 0.005);
-    EXPECT_LE(baseline, 0.06);
+    EXPECT_GE(baseline, 0.5 * w.translationMin);
+    EXPECT_LE(baseline, 1.2 * w.translationMax);
     sumBaseline += baseline;
 
     // Occluders and thin structures.
@@ -144,8 +144,8 @@ TEST(WorldStyle, RangesHoldOverManySeeds) {
   EXPECT_GT(maxRatio, 60.0);
   EXPECT_LT(minFov, 54.0);
   EXPECT_GT(maxFov, 66.0);
-  EXPECT_GT(sumBaseline / kSeeds, 0.01);
-  EXPECT_LT(sumBaseline / kSeeds, 0.04);
+  EXPECT_GT(sumBaseline / kSeeds, 0.04); // log-uniform over 1 .. 30 %: mean about 8.5 %
+  EXPECT_LT(sumBaseline / kSeeds, 0.15);
 }
 
 TEST(WorldStyle, ThinStructuresAreThin) {
