@@ -2,25 +2,20 @@
 # simpli::ocl::embeddedKernelSources(). Programs are keyed by file stem (elementwise.cl ->
 # "elementwise"), headers by file name (elementwise_op_codes.h -> "elementwise_op_codes.h"; the
 # program cache splices them in at `#include "elementwise_op_codes.h"`).
-# FILES: the files to embed, separated by '|' (an explicit list); without it, every
-# KERNEL_DIR/PATTERN file.
-# Optional: PATTERN (default *.cl) and FUNCTION (default embeddedKernelSources) embed other text
-# files the same way (the CLBlast tuning tables, tuning/*.json -> embeddedTuningTables()).
+# FILES: the files to embed, separated by '|' (an explicit list, required).
+# Optional: FUNCTION (default embeddedKernelSources) embeds other text files the same way (the
+# CLBlast tuning tables -> embeddedTuningTables()).
 # NAMESPACE (default simpli::ocl) lets another library embed its own kernels (model/).
-if (NOT PATTERN)
-  set(PATTERN "*.cl")
-endif ()
 if (NOT FUNCTION)
   set(FUNCTION "embeddedKernelSources")
 endif ()
 if (NOT NAMESPACE)
   set(NAMESPACE "simpli::ocl")
 endif ()
-if (FILES)
-  string(REPLACE "|" ";" SOURCES "${FILES}")
-else ()
-  file(GLOB SOURCES "${KERNEL_DIR}/${PATTERN}")
+if (NOT FILES)
+  message(FATAL_ERROR "EmbedKernels.cmake: FILES (the files to embed, '|'-separated) is required")
 endif ()
+string(REPLACE "|" ";" SOURCES "${FILES}")
 list(SORT SOURCES)
 set(body "")
 set(table "")
