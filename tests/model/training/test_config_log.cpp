@@ -167,8 +167,8 @@ TEST(TrainConfig, SyntheticSectionBadFieldsAreNamed) {
   using test::expectError;
   auto parse = [](const std::string& section) {
     return [section] {
-      parseTrainingConfig(R"({"network": "official-4l", "synthetic": )" + section + "}",
-                          "w.json", "");
+      parseTrainingConfig(R"({"network": "official-4l", "synthetic": )" + section + "}", "w.json",
+                          "");
     };
   };
   expectError(parse(R"({"style": "wrold"})"),
