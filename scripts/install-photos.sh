@@ -9,32 +9,5 @@ set -euo pipefail
 
 packages=(mate-backgrounds plasma-workspace-wallpapers)
 
-missing=()
-for p in "${packages[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$p")
-  fi
-done
-
-if ((${#missing[@]} == 0)); then
-  echo "install-photos: ${packages[*]} already installed"
-  exit 0
-fi
-
-if [[ $(id -u) -ne 0 ]]; then
-  if ! command -v sudo >/dev/null; then
-    echo "install-photos: need root (or sudo) to install ${missing[*]}" >&2
-    exit 1
-  fi
-  SUDO=sudo
-else
-  SUDO=
-fi
-echo "install-photos: installing ${missing[*]} (about 140 MB download)"
-export DEBIAN_FRONTEND=noninteractive
-# A stale package list can name versions the mirror no longer has: try, then update and retry.
-if ! $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"; then
-  $SUDO apt-get update -q
-  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
-fi
-echo "install-photos: done"
+# About 140 MB to download when missing.
+bash "$(dirname "${BASH_SOURCE[0]}")/apt-install-missing.sh" install-photos "${packages[@]}"
