@@ -1,10 +1,12 @@
 // chooseImageFolder: which of a scene's image folders (images/, images_N/) to read.
 #include "simpli/error.h"
 #include "simpli/model/io/image.h"
+#include "simpli/model/io/image_header.h"
 #include "simpli/model/scene/readers.h"
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <regex>
 
 namespace fs = std::filesystem;
@@ -60,14 +62,21 @@ std::string chooseImageFolder(const std::string& root, int factor, int preferred
     const std::vector<std::string> files = listImageFiles((fs::path(root) / f).string());
     if (files.empty())
       continue;
-    io::ImageSize size;
-    io::readImage(files.front(), 1, &size);
-    const double distance = std::abs(std::log(double(size.width) / preferredWidth));
+    // The header alone gives the size; a file without a recognised header is decoded.
+    int width = 0;
+    if (const std::optional<io::ImageHeader> header = io::readImageHeader(files.front())) {
+      width = int(header->width);
+    } else {
+      io::ImageSize size;
+      io::readImage(files.front(), 1, &size);
+      width = size.width;
+    }
+    const double distance = std::abs(std::log(double(width) / preferredWidth));
     if (best.empty() || distance < bestDistance - 1e-12 ||
-        (std::abs(distance - bestDistance) <= 1e-12 && size.width > bestWidth)) {
+        (std::abs(distance - bestDistance) <= 1e-12 && width > bestWidth)) {
       best = f;
       bestDistance = distance;
-      bestWidth = size.width;
+      bestWidth = width;
     }
   }
   return best;
