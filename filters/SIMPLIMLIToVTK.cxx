@@ -42,6 +42,26 @@ vtkSmartPointer<vtkFloatArray> floatArray(const char* name, int components, vtkI
   return a;
 }
 
+// Layer k's corner-grid vertices back-projected in double (mli::mliVertex), point i W + j.
+vtkSmartPointer<vtkDoubleArray> doublePoints(const mli::MLI& mli, int k) {
+  const int W = mli.width(), H = mli.height();
+  const std::vector<float>& depth = mli.layers[static_cast<std::size_t>(k)].depth;
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetName("Points");
+  array->SetNumberOfComponents(3);
+  array->SetNumberOfTuples(static_cast<vtkIdType>(W) * H);
+  double* out = array->GetPointer(0);
+  for (int i = 0; i < H; ++i)
+    for (int j = 0; j < W; ++j) {
+      const std::size_t p = static_cast<std::size_t>(i) * W + j;
+      const Eigen::Vector3d x = mli::mliVertex(mli.camera, i, j, depth[p]);
+      out[3 * p + 0] = x.x();
+      out[3 * p + 1] = x.y();
+      out[3 * p + 2] = x.z();
+    }
+  return array;
+}
+
 vtkSmartPointer<vtkIntArray> intValue(const char* name, int value) {
   auto a = vtkSmartPointer<vtkIntArray>::New();
   a->SetName(name);
@@ -185,7 +205,10 @@ vtkSmartPointer<vtkPolyData> layerToPolyData(const mli::MLI& mli, int k,
   const vtkIdType nt = static_cast<vtkIdType>(mesh.numTriangles());
 
   auto points = vtkSmartPointer<vtkPoints>::New();
-  points->SetData(floatArray("Points", 3, n, mesh.points.data()));
+  if (options.doublePrecisionPoints)
+    points->SetData(doublePoints(mli, k));
+  else
+    points->SetData(floatArray("Points", 3, n, mesh.points.data()));
 
   // The cells' offsets and connectivity are filled directly (millions of triangles).
   auto offsets = vtkSmartPointer<vtkIdTypeArray>::New();

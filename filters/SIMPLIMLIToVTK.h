@@ -67,6 +67,9 @@ struct LayerOptions {
   /// Leave out the layers whose every alpha is < alphaThreshold.
   bool skipEmptyLayers = false;
   double alphaThreshold = 1.0 / 255.0;
+  /// Point coordinates as vtkDoubleArray, back-projected in double precision from the stored
+  /// (float) depths; float otherwise, as the model's mesh holds them.
+  bool doublePrecisionPoints = false;
 };
 
 /// "Layer07" for k = 7 (at least two digits, like the file names).

@@ -1,28 +1,21 @@
 #include "vtkSIMPLILayerGridSource.h"
 
-#include <vtkCellArray.h>
-#include <vtkFloatArray.h>
-#include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkObjectFactory.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
 #include <vtkPolyData.h>
-#include <vtkSmartPointer.h>
-#include <vtkUnsignedCharArray.h>
 
+#include "SIMPLIFilter.h"
+#include "SIMPLIMLIToVTK.h"
+#include "simpli/error.h"
+#include "simpli/model/mli/mli.h"
+
+#include <algorithm>
 #include <cmath>
 
 vtkStandardNewMacro(vtkSIMPLILayerGridSource);
 
 namespace {
-
-// [0,1] -> [0,255], rounded: truncation would turn products that land a hair below an
-// integer (binary floating point) into the next lower byte.
-unsigned char toByte(double c) {
-  return static_cast<unsigned char>(std::lround(c * 255.0));
-}
 
 // Clamp to [0,1]; NaN is kept so that CheckSettings() can report it instead of hiding it.
 double clampUnit(double c) {
@@ -56,35 +49,21 @@ void vtkSIMPLILayerGridSource::SetColor(double r, double g, double b, double a) 
   }
 }
 
-bool vtkSIMPLILayerGridSource::CheckSettings() {
-  if (!(this->Depth > 0.0) || !std::isfinite(this->Depth)) {
-    vtkErrorMacro(<< "Depth = " << this->Depth << " is invalid: it must be a finite value > 0");
-    return false;
-  }
-  if (this->Fx == 0.0 || !std::isfinite(this->Fx)) {
-    vtkErrorMacro(<< "Fx = " << this->Fx << " is invalid: it must be finite and non-zero");
-    return false;
-  }
-  if (this->Fy == 0.0 || !std::isfinite(this->Fy)) {
-    vtkErrorMacro(<< "Fy = " << this->Fy << " is invalid: it must be finite and non-zero");
-    return false;
-  }
-  if (!std::isfinite(this->Cx)) {
-    vtkErrorMacro(<< "Cx = " << this->Cx << " is invalid: it must be finite");
-    return false;
-  }
-  if (!std::isfinite(this->Cy)) {
-    vtkErrorMacro(<< "Cy = " << this->Cy << " is invalid: it must be finite");
-    return false;
-  }
-  for (int k = 0; k < 4; ++k) {
-    if (std::isnan(this->Color[k])) {
-      vtkErrorMacro(<< "Color[" << k << "] = " << this->Color[k]
-                    << " is invalid: it must be a number in [0, 1]");
-      return false;
-    }
-  }
-  return true;
+void vtkSIMPLILayerGridSource::CheckSettings() const {
+  using simpli::fail;
+  if (!(this->Depth > 0.0) || !std::isfinite(this->Depth))
+    fail("Depth = ", this->Depth, " is invalid: it must be a finite value > 0");
+  if (!(this->Fx > 0.0) || !std::isfinite(this->Fx))
+    fail("Fx = ", this->Fx, " is invalid: it must be a finite value > 0");
+  if (!(this->Fy > 0.0) || !std::isfinite(this->Fy))
+    fail("Fy = ", this->Fy, " is invalid: it must be a finite value > 0");
+  if (!std::isfinite(this->Cx))
+    fail("Cx = ", this->Cx, " is invalid: it must be finite");
+  if (!std::isfinite(this->Cy))
+    fail("Cy = ", this->Cy, " is invalid: it must be finite");
+  for (int k = 0; k < 4; ++k)
+    if (std::isnan(this->Color[k]))
+      fail("Color[", k, "] = ", this->Color[k], " is invalid: it must be a number in [0, 1]");
 }
 
 int vtkSIMPLILayerGridSource::RequestData(vtkInformation* vtkNotUsed(request),
@@ -96,94 +75,41 @@ int vtkSIMPLILayerGridSource::RequestData(vtkInformation* vtkNotUsed(request),
     return 0;
   }
   output->Initialize();
-  if (!this->CheckSettings()) {
-    return 0;
-  }
-
-  const vtkIdType w = this->Width;
-  const vtkIdType h = this->Height;
-  const vtkIdType numPoints = w * h;
-  const vtkIdType numTriangles = 2 * (w - 1) * (h - 1);
-
-  auto points = vtkSmartPointer<vtkPoints>::New();
-  points->SetDataType(this->OutputPointsPrecision == DOUBLE_PRECISION ? VTK_DOUBLE : VTK_FLOAT);
-  points->SetNumberOfPoints(numPoints);
-
-  auto rgba = vtkSmartPointer<vtkUnsignedCharArray>::New();
-  rgba->SetName("RGBA");
-  rgba->SetNumberOfComponents(4);
-  rgba->SetNumberOfTuples(numPoints);
-
-  auto alpha = vtkSmartPointer<vtkFloatArray>::New();
-  alpha->SetName("Alpha");
-  alpha->SetNumberOfTuples(numPoints);
-
-  auto depth = vtkSmartPointer<vtkFloatArray>::New();
-  depth->SetName("Depth");
-  depth->SetNumberOfTuples(numPoints);
-
-  auto tcoords = vtkSmartPointer<vtkFloatArray>::New();
-  tcoords->SetName("TCoords");
-  tcoords->SetNumberOfComponents(2);
-  tcoords->SetNumberOfTuples(numPoints);
-
-  // Offsets/connectivity are filled directly: for big layers (4096^2 texels) this avoids
-  // 33M InsertNextCell calls.
-  auto offsets = vtkSmartPointer<vtkIdTypeArray>::New();
-  offsets->SetNumberOfTuples(numTriangles + 1);
-  auto connectivity = vtkSmartPointer<vtkIdTypeArray>::New();
-  connectivity->SetNumberOfTuples(3 * numTriangles);
-  for (vtkIdType t = 0; t <= numTriangles; ++t) {
-    offsets->SetValue(t, 3 * t);
-  }
-
-  const unsigned char colorBytes[4] = {toByte(this->Color[0]), toByte(this->Color[1]),
-                                       toByte(this->Color[2]), toByte(this->Color[3])};
-  const float alphaValue = static_cast<float>(this->Color[3]);
-  const float depthValue = static_cast<float>(this->Depth);
-  const double d = this->Depth;
-
-  vtkIdType tri = 0;
-  for (vtkIdType i = 0; i < h; ++i) {
-    this->UpdateProgress(static_cast<double>(i) / static_cast<double>(h));
-    if (this->GetAbortExecute()) {
-      // No partial layers: an aborted request leaves an empty output.
-      vtkDebugMacro(<< "Aborted at row " << i << " of " << h);
-      output->Initialize();
-      return 1;
-    }
-    const double v = static_cast<double>(i) / static_cast<double>(h - 1);
-    const double y = d * (v - this->Cy) / this->Fy;
-    for (vtkIdType j = 0; j < w; ++j) {
-      const double u = static_cast<double>(j) / static_cast<double>(w - 1);
-      const vtkIdType b = i * w + j;
-      points->SetPoint(b, d * (u - this->Cx) / this->Fx, y, d);
-      rgba->SetTypedTuple(b, colorBytes);
-      alpha->SetValue(b, alphaValue);
-      depth->SetValue(b, depthValue);
-      tcoords->SetTypedComponent(b, 0, static_cast<float>(u));
-      tcoords->SetTypedComponent(b, 1, static_cast<float>(1.0 - v));
-      if (i + 1 < h && j + 1 < w) {
-        const vtkIdType quad[6] = {b, b + w, b + w + 1, b, b + w + 1, b + 1};
-        for (vtkIdType k = 0; k < 6; ++k) {
-          connectivity->SetValue(3 * tri + k, quad[k]);
+  return simpli::vtkfilter::runRequest(
+      this, "SIMPLI Layer Grid Source",
+      [&](const simpli::vtkfilter::Progress& progress) {
+        this->CheckSettings();
+        // The layer is a one-layer MLI seen from its own reference camera (identity pose), so
+        // it gets the mesh and arrays of every other MLI layer in the module.
+        simpli::scene::Camera camera;
+        camera.fx = this->Fx;
+        camera.fy = this->Fy;
+        camera.cx = this->Cx;
+        camera.cy = this->Cy;
+        camera.width = this->Width;
+        camera.height = this->Height;
+        simpli::mli::MLI mli = simpli::mli::MLI::allocate(camera, 1);
+        simpli::mli::MLILayer& layer = mli.layers[0];
+        const float rgba[4] = {
+            static_cast<float>(this->Color[0]), static_cast<float>(this->Color[1]),
+            static_cast<float>(this->Color[2]), static_cast<float>(this->Color[3])};
+        const std::size_t W = static_cast<std::size_t>(this->Width);
+        for (int i = 0; i < this->Height; ++i) {
+          if (!progress(static_cast<double>(i) / this->Height)) {
+            // No partial layers: an aborted request leaves an empty output.
+            vtkDebugMacro(<< "Aborted at row " << i << " of " << this->Height);
+            return;
+          }
+          for (std::size_t p = i * W; p < (i + 1) * W; ++p) {
+            layer.depth[p] = static_cast<float>(this->Depth);
+            std::copy(rgba, rgba + 4, layer.rgba.begin() + static_cast<std::ptrdiff_t>(4 * p));
+          }
         }
-        tri += 2;
-      }
-    }
-  }
-
-  auto polys = vtkSmartPointer<vtkCellArray>::New();
-  polys->SetData(offsets, connectivity);
-
-  output->SetPoints(points);
-  output->SetPolys(polys);
-  vtkPointData* pd = output->GetPointData();
-  pd->SetScalars(rgba);
-  pd->AddArray(alpha);
-  pd->AddArray(depth);
-  pd->SetTCoords(tcoords);
-  return 1; // the executive reports progress 1.0 itself
+        simpli::vtkmli::LayerOptions options;
+        options.doublePrecisionPoints = this->OutputPointsPrecision == DOUBLE_PRECISION;
+        output->ShallowCopy(simpli::vtkmli::layerToPolyData(mli, 0, options));
+      },
+      [&] { output->Initialize(); });
 }
 
 void vtkSIMPLILayerGridSource::PrintSelf(ostream& os, vtkIndent indent) {

@@ -23,7 +23,10 @@
  * direct scalars / MapScalars off), "Alpha" and "Depth" (vtkFloatArray, 1 component) and the
  * texture coordinates "TCoords" = (u, 1 - v), so that image row 0 is the top of a texture.
  *
- * Invalid settings (a Depth that is not > 0, an Fx or Fy of 0, non-finite values) are reported
+ * The layer is built as a one-layer MLI through the module's MLI-to-VTK conversion, so it also
+ * carries that layout's "Color" array and "LayerIndex" field data (SIMPLIMLIToVTK.h).
+ *
+ * Invalid settings (a Depth, Fx or Fy that is not > 0, non-finite values) are reported
  * with vtkErrorMacro naming the property and its value, and the request fails.
  */
 
@@ -62,7 +65,7 @@ public:
   ///@{
   /**
    * Intrinsics relative to the image size (fx / width, fy / height, cx / width, cy / height).
-   * Fx and Fy must be non-zero. Defaults: Fx = Fy = 1, Cx = Cy = 0.5.
+   * Fx and Fy must be > 0 (an MLI's reference camera). Defaults: Fx = Fy = 1, Cx = Cy = 0.5.
    */
   vtkSetMacro(Fx, double);
   vtkGetMacro(Fx, double);
@@ -100,8 +103,8 @@ protected:
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
                   vtkInformationVector* outputVector) override;
 
-  // Reports the first invalid property with vtkErrorMacro; returns false if there is one.
-  bool CheckSettings();
+  // Throws simpli::Error naming the first invalid property and its value.
+  void CheckSettings() const;
 
   int Width = 16;
   int Height = 16;

@@ -340,6 +340,8 @@ INSTANTIATE_TEST_SUITE_P(
                    "Depth", "inf"},
         BadSetting{"ZeroFx", [](vtkSIMPLILayerGridSource* s) { s->SetFx(0.0); }, "Fx", "0"},
         BadSetting{"ZeroFy", [](vtkSIMPLILayerGridSource* s) { s->SetFy(0.0); }, "Fy", "0"},
+        // A mirrored camera is not an MLI reference camera (validateMLICamera).
+        BadSetting{"NegativeFx", [](vtkSIMPLILayerGridSource* s) { s->SetFx(-0.8); }, "Fx", "-0.8"},
         BadSetting{
             "NanCx",
             [](vtkSIMPLILayerGridSource* s) { s->SetCx(std::numeric_limits<double>::quiet_NaN()); },

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# The long training run of issue 10, resumable across sessions and machines:
+#   bash scripts/train-long.sh RUN_DIR [CONFIG]      (default config: tiny-world)
+# If RUN_DIR holds a checkpoint the run resumes from it; otherwise it warm-starts from the
+# shipped weights (model/weights/default.safetensors) and says so in RUN_DIR/launch.log.
+# The binary is copied into RUN_DIR/bin first, so rebuilding the tree never changes the program
+# of a running run. Runs niced in the background; `kill -INT` checkpoints and stops it.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+run=${1:?usage: train-long.sh RUN_DIR [CONFIG]}
+config=${2:-$root/model/configs/training/tiny-world.json}
+mkdir -p "$run/bin"
+run=$(cd "$run" && pwd)
+if [[ ! -x "$run/bin/simpli" ]]; then
+  cp "$root/build/bin/simpli" "$run/bin/simpli"
+  cp "$config" "$run/bin/config.json"
+  cp "$root/model/weights/default.safetensors" "$run/bin/init.safetensors"
+fi
+# The config names its network relative to itself: keep the network configs beside it.
+mkdir -p "$run/model/configs/training"
+cp -n "$root"/model/configs/*.json "$run/model/configs/" 2>/dev/null || true
+cp -n "$run/bin/config.json" "$run/model/configs/training/run.json"
+every=${SIMPLI_CHECKPOINT_EVERY:-20}
+if [[ -n "$(ls -A "$run/out/checkpoints" 2>/dev/null)" ]]; then
+  echo "$(date -Is) resuming $run/out" >> "$run/launch.log"
+  args=(--out "$run/out" --resume --checkpoint-every "$every")
+else
+  echo "$(date -Is) no checkpoint in $run/out: warm start from the shipped weights" \
+    "(model/weights/default.safetensors at $(git -C "$root" rev-parse --short HEAD))" >> "$run/launch.log"
+  rm -rf "$run/out"
+  args=(--config "$run/model/configs/training/run.json" --init-weights "$run/bin/init.safetensors"
+        --out "$run/out" --checkpoint-every "$every")
+fi
+cd "$run"
+nohup nice -n 15 "$run/bin/simpli" train synthetic:1 "${args[@]}" >> "$run/train.log" 2>&1 &
+echo "$!" > "$run/pid"
+echo "training in the background: pid $(cat "$run/pid"), log $run/train.log"
