@@ -8,6 +8,7 @@
 
 #include "simpli/error.h"
 #include "simpli/model/io/staged_folder.h"
+#include "simpli/model/training/monitor.h"
 #include "simpli/model/training/trainer.h"
 #include "simpli/ocl/device.h"
 #include <CLI/CLI.hpp>
@@ -22,6 +23,8 @@ namespace {
 
 struct TrainCliOptions {
   std::string data, config, out, vgg, size, device, initWeights;
+  std::string validate, validateSize = "256x192";
+  int64_t validateEvery = 100;
   bool resume = false;
   int64_t steps = -1, checkpointEvery = -1;
   int64_t seed = -1;
@@ -80,7 +83,26 @@ int runTrain(const TrainCliOptions& o) {
                   r.terms[0].second, r.lr, r.ms);
     bar->update(r.step, detail);
   };
+  training::ValidationOptions v;
+  v.scene = o.validate;
+  v.every = o.validateEvery;
+  if (o.validateEvery < 1)
+    fail("--validate-every ", o.validateEvery, ": must be >= 1");
+  training::parseWidthHeight(o.validateSize, "--validate-size", v.width, v.height);
+  training::TrainingMonitor monitor(o.out, v);
+  training::Trainer* running = nullptr; // set below; checkpoints happen only in run()
+  t.onCheckpoint = [&](int64_t step) {
+    if (const auto s = monitor.update(running->network(), step)) {
+      char line[160];
+      std::snprintf(line, sizeof line,
+                    "validation at step %lld: %.2f dB / SSIM %.3f (nearest view %.2f dB)",
+                    static_cast<long long>(step), s->psnr, s->ssim, s->nearestPsnr);
+      t.message(line);
+    }
+  };
   training::Trainer trainer(config.get(), t);
+  running = &trainer;
+  monitor.begin(o.resume ? trainer.startStep() : -1);
   bar = std::make_unique<ProgressBar>("train", trainer.totalSteps(), trainer.startStep());
   const training::Trainer::RunResult result = trainer.run();
   bar->finish();
@@ -133,6 +155,13 @@ void addTrainCommand(CLI::App& app) {
                   "Resize the images to WIDTHxHEIGHT, e.g. 192x128 (multiples of 16)");
   cmd->add_option("--seed", opts->seed, "Seed of the network initialisation and sampling");
   cmd->add_option("--device", opts->device, "OpenCL device p:d (see `simpli devices`)");
+  cmd->add_option("--validate", opts->validate,
+                  "A scene folder scored at checkpoints (fixed sources and novel views): "
+                  "RUN/val.csv, RUN/validation/step_N.png, and a panel in RUN/progress.png");
+  cmd->add_option("--validate-every", opts->validateEvery,
+                  "Steps between validations, checked at checkpoints (default 100)");
+  cmd->add_option("--validate-size", opts->validateSize,
+                  "Size of the validation images, WIDTHxHEIGHT (default 256x192)");
   cmd->callback([opts, steps] {
     // -1 is the internal "the config's"; on the command line every negative is wrong.
     if (steps->count() > 0 && opts->steps < 0)

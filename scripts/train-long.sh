@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # The long training run of issue 10, resumable across sessions and machines:
 #   bash scripts/train-long.sh RUN_DIR [CONFIG]      (default config: tiny-world)
+# SIMPLI_VALIDATE=SCENE scores the network on that scene at checkpoints (RUN_DIR/out/val.csv,
+# validation/, progress.png; every SIMPLI_VALIDATE_EVERY steps, default 100);
+# SIMPLI_UPDATE_BINARY=1 replaces the run's copy of the binary with the tree's.
 # If RUN_DIR holds a checkpoint the run resumes from it; otherwise it warm-starts from the
 # shipped weights (model/weights/default.safetensors) and says so in RUN_DIR/launch.log.
 # The binary is copied into RUN_DIR/bin first, so rebuilding the tree never changes the program
@@ -11,8 +14,10 @@ run=${1:?usage: train-long.sh RUN_DIR [CONFIG]}
 config=${2:-$root/model/configs/training/tiny-world.json}
 mkdir -p "$run/bin"
 run=$(cd "$run" && pwd)
-if [[ ! -x "$run/bin/simpli" ]]; then
-  cp "$root/build/bin/simpli" "$run/bin/simpli"
+if [[ ! -x "$run/bin/simpli" || "${SIMPLI_UPDATE_BINARY:-0}" == 1 ]]; then
+  cp "$root/build/bin/simpli" "$run/bin/simpli.new" && mv "$run/bin/simpli.new" "$run/bin/simpli"
+fi
+if [[ ! -f "$run/bin/config.json" ]]; then
   cp "$config" "$run/bin/config.json"
   cp "$root/model/weights/default.safetensors" "$run/bin/init.safetensors"
 fi
@@ -30,6 +35,9 @@ else
   rm -rf "$run/out"
   args=(--config "$run/model/configs/training/run.json" --init-weights "$run/bin/init.safetensors"
         --out "$run/out" --checkpoint-every "$every")
+fi
+if [[ -n "${SIMPLI_VALIDATE:-}" ]]; then
+  args+=(--validate "$SIMPLI_VALIDATE" --validate-every "${SIMPLI_VALIDATE_EVERY:-100}")
 fi
 cd "$run"
 nohup nice -n 15 "$run/bin/simpli" train synthetic:1 "${args[@]}" >> "$run/train.log" 2>&1 &

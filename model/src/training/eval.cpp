@@ -74,7 +74,8 @@ EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const E
       in.images = imagesToTensor(s.sources, network.parameters().dtype());
       in.sources = s.sourceCameras;
       in.reference = s.reference;
-      if (done == 0) { // warm-up: PoCL compiles kernels on first use, which is not build time
+      if (done == 0 &&
+          o.warmUp) { // warm-up: PoCL compiles kernels on first use, which is not build time
         generator.forward(in, go);
         ocl::Device::current().finish();
       }

@@ -262,12 +262,16 @@ Trainer::RunResult Trainer::run() {
     if (step_ % checkpointEvery_ == 0) {
       saveCheckpoint();
       saved = step_;
+      if (options_.onCheckpoint)
+        options_.onCheckpoint(step_);
     }
   }
   if (saved != step_) {
     const std::string dir = saveCheckpoint();
     if (options_.message)
       options_.message("checkpoint " + dir);
+    if (options_.onCheckpoint)
+      options_.onCheckpoint(step_);
   }
   result.steps = step_;
   return result;

@@ -28,6 +28,9 @@ struct EvalOptions {
   int corrections = -1;
   raster::RasterSettings raster;
   double keptArea = 0.9;
+  /// One untimed forward pass before the first timed one (PoCL compiles kernels on first use);
+  /// off where build time is not reported (validation during training).
+  bool warmUp = true;
 };
 
 /// Which frames one scored target view came from (indices into the scene's views).

@@ -54,6 +54,8 @@ struct TrainerOptions {
   /// Polled between steps; true stops the run after a checkpoint.
   std::function<bool()> stopRequested;
   std::function<void(const StepReport&)> onStep;
+  /// After every checkpoint, with the step it holds (validation, progress pictures).
+  std::function<void(int64_t step)> onCheckpoint;
   std::function<void(const std::string&)> message; ///< informational lines
   /// Testing: after this many steps of this process the loop stops without a checkpoint
   /// (simulates a kill); -1 = never.

@@ -1,0 +1,152 @@
+// The training run's progress pictures and validation (training/monitor.h).
+#include "simpli/model/training/monitor.h"
+
+#include "simpli/error.h"
+#include "simpli/model/metrics/comparison_grid.h"
+#include "simpli/model/metrics/line_plot.h"
+#include "simpli/model/training/eval.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace simpli::training {
+namespace {
+namespace fs = std::filesystem;
+
+const std::vector<std::string>& valColumns() {
+  static const std::vector<std::string> c{"step", "psnr", "ssim", "nearest_psnr", "nearest_ssim"};
+  return c;
+}
+
+// Trailing mean over `window` values (fewer at the start), skipping non-finite ones.
+std::vector<double> movingAverage(const std::vector<double>& v, size_t window) {
+  std::vector<double> out(v.size(), std::nan(""));
+  double sum = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (std::isfinite(v[i])) {
+      sum += v[i];
+      ++n;
+    }
+    if (i >= window && std::isfinite(v[i - window])) {
+      sum -= v[i - window];
+      --n;
+    }
+    if (n > 0)
+      out[i] = sum / double(n);
+  }
+  return out;
+}
+
+int columnIndex(const std::vector<std::string>& header, const std::string& name) {
+  for (size_t i = 0; i < header.size(); ++i)
+    if (header[i] == name)
+      return int(i);
+  return -1;
+}
+} // namespace
+
+TrainingMonitor::TrainingMonitor(std::string runDir, ValidationOptions options)
+    : runDir_(std::move(runDir)), options_(std::move(options)) {
+  if (options_.scene.empty())
+    return;
+  if (options_.every < 1)
+    fail("validation every ", options_.every, " steps: must be >= 1");
+  DataOptions d;
+  d.width = options_.width;
+  d.height = options_.height;
+  data_ = openTrainingData(options_.scene, d);
+  const scene::Scene& s = data_->scene(0);
+  if (int(s.size()) < options_.views + 1)
+    fail("validation scene ", options_.scene, " has ", s.size(), " views; ", options_.views,
+         " sources and a novel view need at least ", options_.views + 1);
+}
+
+void TrainingMonitor::begin(int64_t resumeStep) {
+  lastValidated_ = resumeStep;
+  if (data_)
+    log_ = std::make_unique<TrainLog>((fs::path(runDir_) / "val.csv").string(), valColumns(),
+                                      resumeStep);
+}
+
+TrainingMonitor::~TrainingMonitor() = default;
+
+std::unique_ptr<ValidationScore> TrainingMonitor::update(network::SimpliNetwork& network,
+                                                         int64_t step, bool force) {
+  std::unique_ptr<ValidationScore> score;
+  if (log_ && (force || lastValidated_ < 0 || step - lastValidated_ >= options_.every)) {
+    EvalOptions e;
+    e.repeats = options_.repeats;
+    e.views = options_.views;
+    e.novelViews = options_.novelViews;
+    e.seed = options_.seed;
+    e.warmUp = false; // build time is not measured here
+    io::Image grid;
+    const EvalResult r = evaluate(network, *data_, e, {}, [&](const EvalViewImages& v) {
+      if (!grid.empty())
+        return;
+      const io::Image error = metrics::errorMap(v.render, v.truth);
+      grid = metrics::sideBySide({&v.truth, &v.render, &error, &v.nearest});
+    });
+    score = std::make_unique<ValidationScore>();
+    *score = {step, r.modelPsnr.mean, r.modelSsim.mean, r.baselinePsnr.mean, r.baselineSsim.mean};
+    log_->append({double(step), score->psnr, score->ssim, score->nearestPsnr, score->nearestSsim});
+    const fs::path dir = fs::path(runDir_) / "validation";
+    fs::create_directories(dir);
+    char name[32];
+    std::snprintf(name, sizeof name, "step_%08lld.png", static_cast<long long>(step));
+    io::writeImagePng(grid, (dir / name).string());
+    lastValidated_ = step;
+  }
+  drawProgress(runDir_);
+  return score;
+}
+
+void TrainingMonitor::drawProgress(const std::string& runDir) {
+  const fs::path run(runDir);
+  std::vector<metrics::PlotPanel> panels;
+  std::vector<std::string> header;
+  const std::vector<std::vector<double>> rows = TrainLog::read((run / "log.csv").string(), &header);
+  const int totalCol = columnIndex(header, "total");
+  metrics::PlotPanel loss;
+  loss.title = "training loss";
+  loss.xLabel = "step";
+  loss.yLabel = "loss";
+  loss.logY = true;
+  if (totalCol >= 0) {
+    metrics::PlotSeries raw{"per step", {}, {}, {0.72f, 0.78f, 0.9f}};
+    for (const std::vector<double>& r : rows) {
+      raw.x.push_back(r[0]);
+      raw.y.push_back(r[size_t(totalCol)]);
+    }
+    const size_t window = std::max<size_t>(5, rows.size() / 20);
+    metrics::PlotSeries mean{"mean of " + std::to_string(window),
+                             raw.x,
+                             movingAverage(raw.y, window),
+                             {0.05f, 0.2f, 0.6f}};
+    loss.series = {raw, mean};
+  }
+  panels.push_back(loss);
+  const fs::path val = run / "val.csv";
+  if (fs::exists(val)) {
+    const std::vector<std::vector<double>> v = TrainLog::read(val.string());
+    metrics::PlotPanel p;
+    p.title = "validation (fixed views)";
+    p.xLabel = "step";
+    p.yLabel = "psnr db";
+    metrics::PlotSeries model{"network", {}, {}, {0.8f, 0.15f, 0.1f}, true};
+    metrics::PlotSeries nearest{"nearest view", {}, {}, {0.3f, 0.3f, 0.3f}, false, true};
+    for (const std::vector<double>& r : v) {
+      model.x.push_back(r[0]);
+      model.y.push_back(r[1]);
+      nearest.x.push_back(r[0]);
+      nearest.y.push_back(r[3]);
+    }
+    p.series = {model, nearest};
+    panels.push_back(p);
+  }
+  io::writeImagePng(metrics::renderPlot(panels), (run / "progress.png").string());
+}
+
+} // namespace simpli::training
