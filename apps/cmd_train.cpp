@@ -91,8 +91,8 @@ int runTrain(const TrainCliOptions& o) {
   training::parseWidthHeight(o.validateSize, "--validate-size", v.width, v.height);
   training::TrainingMonitor monitor(o.out, v);
   training::Trainer* running = nullptr; // set below; checkpoints happen only in run()
-  t.onCheckpoint = [&](int64_t step) {
-    if (const auto s = monitor.update(running->network(), step)) {
+  auto monitorStep = [&](int64_t step, bool force) {
+    if (const auto s = monitor.update(running->network(), step, force)) {
       char line[160];
       std::snprintf(line, sizeof line,
                     "validation at step %lld: %.2f dB / SSIM %.3f (nearest view %.2f dB)",
@@ -100,11 +100,15 @@ int runTrain(const TrainCliOptions& o) {
       t.message(line);
     }
   };
+  t.onCheckpoint = [&](int64_t step) { monitorStep(step, false); };
   training::Trainer trainer(config.get(), t);
   running = &trainer;
   monitor.begin(o.resume ? trainer.startStep() : -1);
   bar = std::make_unique<ProgressBar>("train", trainer.totalSteps(), trainer.startStep());
   const training::Trainer::RunResult result = trainer.run();
+  // A finished run is validated at its last step too (an interrupted one exits at once).
+  if (!result.interrupted && monitor.validating() && monitor.lastValidated() != result.steps)
+    monitorStep(result.steps, true);
   bar->finish();
   const int sig = stopSignal();
   const std::string averaged =

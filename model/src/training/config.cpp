@@ -87,7 +87,8 @@ const std::vector<std::string>& lossTermNames() {
                                               "intermediate_loss_1_l1",
                                               "intermediate_loss_2_l1",
                                               "intermediate_loss_3_l1",
-                                              "smooth_layers"};
+                                              "smooth_layers",
+                                              "depth"};
   return names;
 }
 
@@ -99,7 +100,8 @@ TrainingConfig::TrainingConfig() {
                  {"intermediate_loss_1_l1", 1.0},
                  {"intermediate_loss_2_l1", 1.0},
                  {"intermediate_loss_3_l1", 1.0},
-                 {"smooth_layers", 0.01}};
+                 {"smooth_layers", 0.01},
+                 {"depth", 0.0}};
 }
 
 double TrainingConfig::weight(const std::string& term) const {

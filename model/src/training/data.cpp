@@ -75,10 +75,17 @@ public:
   uint64_t sceneCount() const override { return 0; }
   const scene::Scene& scene(uint64_t index) override {
     if (!current_ || currentIndex_ != index) {
-      current_ = source_.sample(index).scene;
+      synthetic::SyntheticSample s = source_.sample(index);
+      current_ = std::move(s.scene);
+      depths_ = std::move(s.depths);
       currentIndex_ = index;
     }
     return *current_;
+  }
+  const std::vector<std::vector<float>>* depths(uint64_t index) override {
+    if (!current_ || currentIndex_ != index)
+      fail("synthetic data: depths of scene ", index, " asked before the scene");
+    return &depths_;
   }
   std::string describe() const override {
     const synthetic::SyntheticSceneParams& p = source_.params();
@@ -133,6 +140,7 @@ private:
   std::string textureNote_;
   synthetic::ProceduralSceneSource source_;
   std::optional<scene::Scene> current_;
+  std::vector<std::vector<float>> depths_; ///< of current_
   uint64_t currentIndex_ = 0;
 };
 

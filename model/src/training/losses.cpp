@@ -6,8 +6,10 @@
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/ops_elementwise.h"
 #include "simpli/ocl/ops_loss.h"
+#include "simpli/ocl/ops_reduce.h"
 #include "simpli/ocl/ops_shape.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -33,10 +35,31 @@ ocl::Tensor resizeNearest(const ocl::Tensor& x, int64_t outH, int64_t outW) {
   return ocl::indexSelect(ocl::indexSelect(x, x.dim() - 2, rows), x.dim() - 1, cols);
 }
 
+ocl::Tensor depthLoss(const ocl::Tensor& renderedDepth, const ocl::Tensor& renderedOpacity,
+                      const ocl::Tensor& inverseDepth) {
+  if (renderedDepth.shape() != inverseDepth.shape() ||
+      renderedOpacity.shape() != inverseDepth.shape())
+    fail("depthLoss: rendered depth ", renderedDepth.describe(), ", opacity ",
+         renderedOpacity.describe(), " and inverse depth ", inverseDepth.describe(),
+         " must have one shape");
+  // Pixels with a surface: inverse depth > 0 (counted on the host: the mask is data).
+  const std::vector<double> inv = inverseDepth.toVector();
+  const double known =
+      double(std::count_if(inv.begin(), inv.end(), [](double v) { return v > 0; }));
+  if (known == 0)
+    return ocl::Tensor::zeros({1}, renderedDepth.dtype());
+  const ocl::Tensor residual =
+      ocl::abs(ocl::sub(ocl::mul(renderedDepth, inverseDepth), renderedOpacity));
+  // Pixels without a surface have inverseDepth 0 and drop out here.
+  const ocl::Tensor weighted = ocl::mul(residual, inverseDepth);
+  return ocl::mulScalar(ocl::sumAll(weighted), 1.0 / known); // [1]
+}
+
 LossTerms computeLosses(const TrainingConfig& config, const generator::GeneratorOutput& output,
                         const ocl::Tensor& novelColour, const ocl::Tensor& novelOpacity,
                         const ocl::Tensor& novelTargets, const ocl::Tensor& cleanSources,
-                        const Vgg19Features* vgg) {
+                        const Vgg19Features* vgg, const ocl::Tensor& novelDepth,
+                        const ocl::Tensor& novelInverseDepth) {
   LossTerms out;
   auto addTerm = [&](const std::string& name, const ocl::Tensor& t) {
     out.terms.emplace_back(name, t);
@@ -63,6 +86,8 @@ LossTerms computeLosses(const TrainingConfig& config, const generator::Generator
   }
   const ocl::Tensor& D = output.depth;
   addTerm("smooth_layers", ocl::smoothLayersLoss(ocl::unsqueeze(D, 0)));
+  if (novelInverseDepth.defined())
+    addTerm("depth", depthLoss(novelDepth, novelOpacity, novelInverseDepth));
   // Keep lossTermNames() order in the list (perceptual may be missing; order is preserved).
   if (!out.total.defined())
     out.total = ocl::Tensor::zeros({1}, novelColour.dtype());

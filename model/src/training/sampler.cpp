@@ -94,16 +94,38 @@ io::Image zoomImage(const io::Image& image, double factor) {
   return cropImage(io::resizeImage(image, z.width, z.height), z.x, z.y, image.width, image.height);
 }
 
+std::vector<float> zoomCropDepth(const std::vector<float>& depth, int width, int height,
+                                 double factor, int x, int y, int cropWidth, int cropHeight) {
+  if (depth.size() != size_t(width) * size_t(height))
+    fail("zoomCropDepth: ", depth.size(), " depths for a ", width, "x", height, " view");
+  if (x < 0 || y < 0 || x + cropWidth > width || y + cropHeight > height)
+    fail("zoomCropDepth: window x ", x, " y ", y, " ", cropWidth, "x", cropHeight,
+         " is not inside the ", width, "x", height, " view");
+  const ZoomWindow z = zoomWindow(width, height, factor);
+  std::vector<float> out(size_t(cropWidth) * size_t(cropHeight));
+  for (int r = 0; r < cropHeight; ++r) {
+    // Pixel centres of the zoomed image mapped back onto the source grid.
+    const int sy = std::min(height - 1, int((r + y + z.y + 0.5) * height / z.height));
+    for (int c = 0; c < cropWidth; ++c) {
+      const int sx = std::min(width - 1, int((c + x + z.x + 0.5) * width / z.width));
+      out[size_t(r) * cropWidth + c] = depth[size_t(sy) * width + sx];
+    }
+  }
+  return out;
+}
+
 Sampler::Sampler(const SamplingConfig& config, uint64_t seed) : config_(config), random_(seed) {}
 
 TrainingSample Sampler::draw(TrainingData& data) {
   const uint64_t count = data.sceneCount();
   const uint64_t index = count == 0 ? uint64_t(random_.uniformInt(0, (int64_t(1) << 31) - 1))
                                     : uint64_t(random_.uniformInt(0, int64_t(count) - 1));
-  return drawFromScene(data.scene(index), index);
+  const scene::Scene& scene = data.scene(index);
+  return drawFromScene(scene, index, data.depths(index));
 }
 
-TrainingSample Sampler::drawFromScene(const scene::Scene& scene, uint64_t sceneIndex) {
+TrainingSample Sampler::drawFromScene(const scene::Scene& scene, uint64_t sceneIndex,
+                                      const std::vector<std::vector<float>>* depths) {
   TrainingSample s;
   s.sceneIndex = sceneIndex;
   s.sceneRoot = scene.root;
@@ -140,6 +162,14 @@ TrainingSample Sampler::drawFromScene(const scene::Scene& scene, uint64_t sceneI
     take(f, s.cleanSources, s.sourceCameras);
   for (int f : s.targetFrames)
     take(f, s.targets, s.targetCameras);
+  if (depths) {
+    if (depths->size() != scene.size())
+      fail("sampler: scene ", scene.root, " has ", scene.size(), " views but ", depths->size(),
+           " depth maps");
+    for (int f : s.targetFrames)
+      s.targetDepths.push_back(
+          zoomCropDepth((*depths)[size_t(f)], W, H, s.zoom, s.cropX, s.cropY, cw, ch));
+  }
   s.reference = scene::referenceCamera(s.sourceCameras);
   // MixUp on the sources only (kornia RandomMixUp: blend with another image of the batch).
   const int V = int(s.cleanSources.size());

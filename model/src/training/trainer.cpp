@@ -18,15 +18,38 @@ namespace simpli::training {
 namespace {
 namespace fs = std::filesystem;
 
-std::vector<std::string> logColumns() {
-  std::vector<std::string> c{"step"};
+// The loss terms in log.csv: the reference's always; the depth term (not in the reference) only
+// when it is on, so that the logs of runs without it keep their columns (and resume).
+std::vector<std::string> loggedTerms(const TrainingConfig& config) {
+  std::vector<std::string> terms;
   for (const std::string& t : lossTermNames())
+    if (t != "depth" || config.weight(t) > 0)
+      terms.push_back(t);
+  return terms;
+}
+
+std::vector<std::string> logColumns(const TrainingConfig& config) {
+  std::vector<std::string> c{"step"};
+  for (const std::string& t : loggedTerms(config))
     c.push_back(t);
   for (const char* extra : {"total", "lr", "grad_norm", "step_ms"})
     c.emplace_back(extra);
   return c;
 }
 } // namespace
+
+ocl::Tensor inverseDepthTensor(const std::vector<std::vector<float>>& depths, int width, int height,
+                               ocl::Dtype dtype) {
+  std::vector<double> values;
+  values.reserve(depths.size() * size_t(width) * size_t(height));
+  for (const std::vector<float>& d : depths) {
+    if (d.size() != size_t(width) * size_t(height))
+      fail("inverseDepthTensor: ", d.size(), " depths for a ", width, "x", height, " view");
+    for (float z : d)
+      values.push_back(z > 0 && std::isfinite(z) ? 1.0 / z : 0.0);
+  }
+  return ocl::Tensor::fromHost(values, {int64_t(depths.size()), 1, height, width}, dtype);
+}
 
 uint64_t samplerSeed(uint64_t seed) {
   return seed ^ 0x5a3c9e17d2b4f601ULL;
@@ -147,7 +170,7 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
     say("no checkpoint in " + options_.runDir + "; starting at step 0");
   }
   startStep_ = step_;
-  log_ = std::make_unique<TrainLog>((run / "log.csv").string(), logColumns(),
+  log_ = std::make_unique<TrainLog>((run / "log.csv").string(), logColumns(config_),
                                     options_.resume ? step_ : -1);
 
   if (!options_.vggPath.empty()) {
@@ -186,16 +209,23 @@ StepReport Trainer::trainStep() {
   go.keepIntermediates = true;
   go.raster.maxFragments = config_.maxFragments;
   const generator::GeneratorOutput out = generator_->forward(in, go);
-  std::vector<ocl::Tensor> colours, opacities;
+  std::vector<ocl::Tensor> colours, opacities, depths;
   for (const scene::Camera& target : s.targetCameras) {
     const raster::RenderedLayers r =
         generator::renderNovelView(out, s.reference, target, go.raster);
     colours.push_back(ocl::unsqueeze(r.colour, 0));
     opacities.push_back(ocl::unsqueeze(r.opacity, 0));
+    depths.push_back(ocl::unsqueeze(r.depth, 0));
   }
+  ocl::Tensor inverseDepth; // only when the depth term is on and the data knows the depth
+  if (config_.weight("depth") > 0 && !s.targetDepths.empty())
+    inverseDepth =
+        inverseDepthTensor(s.targetDepths, s.targets[0].width, s.targets[0].height, dtype);
+  const ocl::Tensor novelOpacity = ocl::concat(opacities, 0);
   const LossTerms losses =
-      computeLosses(config_, out, ocl::concat(colours, 0), ocl::concat(opacities, 0), targets,
-                    clean, vgg_.loaded() ? &vgg_ : nullptr);
+      computeLosses(config_, out, ocl::concat(colours, 0), novelOpacity, targets, clean,
+                    vgg_.loaded() ? &vgg_ : nullptr,
+                    inverseDepth.defined() ? ocl::concat(depths, 0) : ocl::Tensor(), inverseDepth);
   StepReport report;
   report.total = losses.total.item();
   if (losses.total.hasGradFn())
@@ -223,8 +253,8 @@ StepReport Trainer::trainStep() {
   report.step = step_;
 
   std::vector<double> row{double(step_)};
-  for (const auto& [name, v] : report.terms)
-    row.push_back(v);
+  for (const std::string& t : loggedTerms(config_))
+    row.push_back(losses.value(t));
   row.insert(row.end(), {report.total, report.lr, report.gradNorm, report.ms});
   log_->append(row);
   return report;

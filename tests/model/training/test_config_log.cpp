@@ -36,6 +36,7 @@ TEST(TrainConfig, DefaultsAreTheReferenceTblock4Train) {
   for (int k = 0; k < 4; ++k)
     EXPECT_DOUBLE_EQ(c.weight("intermediate_loss_" + std::to_string(k) + "_l1"), 1);
   EXPECT_DOUBLE_EQ(c.weight("smooth_layers"), 0.01);
+  EXPECT_DOUBLE_EQ(c.weight("depth"), 0); // not in the reference: off
   EXPECT_EQ(c.sampling.minViews, 2);
   EXPECT_EQ(c.sampling.maxViews, 8);
   EXPECT_EQ(c.sampling.novelViews, 4);

@@ -124,6 +124,64 @@ TEST(TrainLosses, MatchDoubleReference) {
   }
 }
 
+// depthLoss = sum over known pixels of |D / z - A| / z, divided by their count.
+TEST(TrainLosses, DepthLossMatchesDoubleReferenceAndFiniteDifferences) {
+  std::mt19937 g(17);
+  const HostT D = randomT({2, 1, 3, 4}, 0.5, 6.0, g);
+  const HostT A = randomT({2, 1, 3, 4}, 0.05, 1.0, g);
+  HostT inv = randomT({2, 1, 3, 4}, 0.1, 1.0, g);
+  for (size_t k = 0; k < inv.v.size(); k += 5)
+    inv.v[k] = 0; // no surface: not counted
+  auto reference = [&](const HostT& d, const HostT& a) {
+    double s = 0;
+    int n = 0;
+    for (size_t k = 0; k < d.v.size(); ++k)
+      if (inv.v[k] > 0) {
+        s += std::abs(d.v[k] * inv.v[k] - a.v[k]) * inv.v[k];
+        ++n;
+      }
+    return s / n;
+  };
+  ocl::Tensor d = dev(D, ocl::Dtype::F64), a = dev(A, ocl::Dtype::F64);
+  d.setRequiresGrad(true);
+  a.setRequiresGrad(true);
+  const ocl::Tensor loss = depthLoss(d, a, dev(inv, ocl::Dtype::F64));
+  EXPECT_NEAR(loss.item(), reference(D, A), 1e-12);
+  loss.backward();
+  const std::vector<double> gd = d.grad().toVector(), ga = a.grad().toVector();
+  const double h = 1e-6;
+  for (size_t k = 0; k < D.v.size(); ++k) {
+    HostT dp = D, dm = D, ap = A, am = A;
+    dp.v[k] += h;
+    dm.v[k] -= h;
+    ap.v[k] += h;
+    am.v[k] -= h;
+    EXPECT_NEAR(gd[k], (reference(dp, A) - reference(dm, A)) / (2 * h), 1e-6) << "D " << k;
+    EXPECT_NEAR(ga[k], (reference(D, ap) - reference(D, am)) / (2 * h), 1e-6) << "A " << k;
+  }
+  // A render at the true depth with full opacity costs nothing; one with no known pixel is 0.
+  HostT exact = A;
+  for (size_t k = 0; k < exact.v.size(); ++k)
+    exact.v[k] = inv.v[k] > 0 ? 1.0 / inv.v[k] : 3.0;
+  HostT ones = A;
+  std::fill(ones.v.begin(), ones.v.end(), 1.0);
+  EXPECT_NEAR(
+      depthLoss(dev(exact, ocl::Dtype::F64), dev(ones, ocl::Dtype::F64), dev(inv, ocl::Dtype::F64))
+          .item(),
+      0.0, 1e-12);
+  HostT none = inv;
+  std::fill(none.v.begin(), none.v.end(), 0.0);
+  EXPECT_EQ(depthLoss(dev(D, ocl::Dtype::F64), dev(A, ocl::Dtype::F64), dev(none, ocl::Dtype::F64))
+                .item(),
+            0.0);
+  test::expectError(
+      [&] {
+        depthLoss(dev(D, ocl::Dtype::F64), dev(A, ocl::Dtype::F64),
+                  ocl::Tensor::zeros({2, 1, 3, 3}, ocl::Dtype::F64));
+      },
+      {"depthLoss", "one shape"});
+}
+
 TEST(TrainLosses, NearestResizeIsPyTorchsDefault) {
   // 5 -> 3: floor(dst * 5 / 3) = 0, 1, 3.
   std::vector<double> v(10);

@@ -243,5 +243,60 @@ TEST(TrainSampler, ZoomIsDrawnPerSampleAndAppliedBeforeTheCrop) {
   }
 }
 
+// Depth maps that name their texel (z = 1 + index) show which texel each output pixel took.
+std::vector<std::vector<float>> indexDepths(int frames, int W, int H) {
+  std::vector<std::vector<float>> d(size_t(frames), std::vector<float>(size_t(W) * H));
+  for (auto& m : d)
+    for (size_t k = 0; k < m.size(); ++k)
+      m[k] = float(1 + k);
+  return d;
+}
+
+// The target depths go through the targets' zoom and crop: each pixel holds the texel of the
+// original view that the zoomed and cropped camera's ray through the pixel centre hits.
+TEST(TrainSampler, TargetDepthsFollowTheZoomAndCropOfTheTargets) {
+  const int W = 48, H = 32;
+  SamplingConfig c;
+  c.cropHeight = 16;
+  c.cropWidth = 24;
+  c.mixupProbability = 0;
+  c.zoomScales = {1.0, 1.5, 2.0};
+  const scene::Scene scene = fakeScene(6, W, H);
+  const std::vector<std::vector<float>> depths = indexDepths(6, W, H);
+  Sampler withDepth(c, 5), without(c, 5);
+  for (int it = 0; it < 12; ++it) {
+    const TrainingSample t = withDepth.drawFromScene(scene, 0, &depths);
+    const TrainingSample u = without.drawFromScene(scene, 0);
+    // Depths draw nothing: the same frames, zoom and crop as a sample without them.
+    EXPECT_EQ(t.targetFrames, u.targetFrames);
+    EXPECT_EQ(t.zoom, u.zoom);
+    EXPECT_EQ(t.cropX, u.cropX);
+    EXPECT_TRUE(u.targetDepths.empty());
+    ASSERT_EQ(t.targetDepths.size(), t.targetFrames.size());
+    const scene::Camera& original = scene.views[size_t(t.targetFrames[0])].camera;
+    const scene::Camera& cam = t.targetCameras[0];
+    ASSERT_EQ(t.targetDepths[0].size(), size_t(24 * 16));
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 24; ++x) {
+        const double nx = ((x + 0.5) / cam.width - cam.cx) / cam.fx;
+        const double ny = ((y + 0.5) / cam.height - cam.cy) / cam.fy;
+        // Where the ray meets the original image, in texels; the texel taken must contain it
+        // (either neighbour when it lies on their shared edge).
+        const double sx = (nx * original.fx + original.cx) * W;
+        const double sy = (ny * original.fy + original.cy) * H;
+        const int k = int(t.targetDepths[0][size_t(y) * 24 + x]) - 1;
+        ASSERT_LE(std::abs(k % W + 0.5 - sx), 0.5 + 1e-9)
+            << "zoom " << t.zoom << " pixel " << x << "," << y;
+        ASSERT_LE(std::abs(k / W + 0.5 - sy), 0.5 + 1e-9)
+            << "zoom " << t.zoom << " pixel " << x << "," << y;
+      }
+  }
+  std::vector<std::vector<float>> short_ = indexDepths(5, W, H);
+  test::expectError([&] { withDepth.drawFromScene(scene, 0, &short_); },
+                    {"6 views", "5 depth maps"});
+  test::expectError([&] { zoomCropDepth(depths[0], W, H, 1.0, 40, 0, 24, 16); },
+                    {"zoomCropDepth", "x 40", "not inside"});
+}
+
 } // namespace
 } // namespace simpli::training

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace simpli::training {
 
@@ -34,6 +35,13 @@ public:
   virtual const scene::Scene& scene(uint64_t index) = 0;
   /// One line for logs: "3 scenes under /data" or "synthetic scenes, seed 7".
   virtual std::string describe() const = 0;
+  /// Ground-truth depth of scene `index` (call scene(index) first): per view, height x width
+  /// camera z in the scene's normalised units, 0 where no surface is hit (sky); null when the
+  /// data has none (photographed scenes). Valid as long as the scene reference.
+  virtual const std::vector<std::vector<float>>* depths(uint64_t index) {
+    (void)index;
+    return nullptr;
+  }
 };
 
 /// Opens `spec` (see the header comment). Folder scenes are read lazily and kept in memory.

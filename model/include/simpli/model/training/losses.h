@@ -7,6 +7,9 @@
 //  intermediate_loss_k_l1 (k = 1..3) mean L1: the mesh render that fed correction k vs the
 //                         clean sources at H
 //  smooth_layers          smoothLayersLoss of the final layer depths [1, L, H, W]
+//  depth                  not in the reference, off by default (weight 0): where the true depth
+//                         of the novel views is known (synthetic scenes), depthLoss of the
+//                         rendered depth and opacity against it
 // total = sum of weight * term over the terms with a positive weight.
 #include "simpli/model/generator/generator.h"
 #include "simpli/model/training/config.h"
@@ -33,13 +36,26 @@ struct LossTerms {
 /// source index floor(dst * in / out). Differentiable (a gather).
 ocl::Tensor resizeNearest(const ocl::Tensor& x, int64_t outH, int64_t outW);
 
+/// Depth supervision of a render, linear in what the renderer outputs (no division by a
+/// predicted quantity, so its gradient stays bounded where the render is nearly transparent):
+///   mean over the pixels with a known surface of | D / z - A | / z
+/// with D [N, 1, H, W] the composited depth sum_k w_k z_k, A [N, 1, H, W] the opacity sum_k w_k
+/// and z the true depth, given as inverseDepth = 1 / z (0 = no surface: not counted). With the
+/// expected depth zhat = D / A this is A |zhat - z| / z^2 = A |1/z - 1/zhat| (zhat / z): the
+/// opacity-weighted disparity error near the truth. Normalised scenes put the near bound at 1,
+/// so the term is on the scale of a disparity error in [0, ~1].
+ocl::Tensor depthLoss(const ocl::Tensor& renderedDepth, const ocl::Tensor& renderedOpacity,
+                      const ocl::Tensor& inverseDepth);
+
 /// novelColour [N, 3, H, W], novelOpacity [N, 1, H, W], novelTargets [N, 3, H, W],
 /// cleanSources [V, 3, H, W]; `output` must carry intermediateSourceRenders (keepIntermediates)
 /// for the intermediate terms (terms without a render are skipped). `vgg` may be null or
-/// unloaded: then the perceptual term is skipped.
+/// unloaded: then the perceptual term is skipped. The depth term is computed when
+/// novelInverseDepth [N, 1, H, W] is given (with novelDepth, the rendered depth [N, 1, H, W]).
 LossTerms computeLosses(const TrainingConfig& config, const generator::GeneratorOutput& output,
                         const ocl::Tensor& novelColour, const ocl::Tensor& novelOpacity,
                         const ocl::Tensor& novelTargets, const ocl::Tensor& cleanSources,
-                        const Vgg19Features* vgg);
+                        const Vgg19Features* vgg, const ocl::Tensor& novelDepth = {},
+                        const ocl::Tensor& novelInverseDepth = {});
 
 } // namespace simpli::training

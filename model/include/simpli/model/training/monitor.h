@@ -44,6 +44,10 @@ public:
   std::unique_ptr<ValidationScore> update(network::SimpliNetwork& network, int64_t step,
                                           bool force = false);
 
+  /// The step of the last validation (-1: none yet in this process or the resumed run).
+  int64_t lastValidated() const { return lastValidated_; }
+  bool validating() const { return log_ != nullptr; }
+
   /// Writes RUN/progress.png from RUN/log.csv and RUN/val.csv (also usable on a finished run).
   static void drawProgress(const std::string& runDir);
 

@@ -36,6 +36,10 @@ struct TrainingSample {
   int cropX = 0, cropY = 0;        ///< crop window origin in the (zoomed) scene's pixels
   std::vector<int> mixupPartner;   ///< per source: the blended source index, -1 = none
   std::vector<double> mixupLambda; ///< per source: lambda (0 when not blended)
+  /// Per target, when the data knows it (synthetic scenes): height x width camera z in
+  /// normalised units, 0 = no surface, after the same zoom and crop as the target image
+  /// (nearest texel); empty otherwise.
+  std::vector<std::vector<float>> targetDepths;
 };
 
 /// Frames of one draw (indices into the scene's views).
@@ -59,14 +63,22 @@ io::Image cropImage(const io::Image& image, int x, int y, int width, int height)
 scene::Camera zoomCamera(const scene::Camera& camera, double factor);
 /// The pixels of that zoom (bilinear resize, then the centre crop zoomCamera describes).
 io::Image zoomImage(const io::Image& image, double factor);
+/// A width x height depth map through the same zoom (by `factor`) and then the crop window
+/// [x, x + cropWidth) x [y, y + cropHeight), sampling the nearest texel (depths are not
+/// averaged across edges).
+std::vector<float> zoomCropDepth(const std::vector<float>& depth, int width, int height,
+                                 double factor, int x, int y, int cropWidth, int cropHeight);
 
 class Sampler {
 public:
   Sampler(const SamplingConfig& config, uint64_t seed);
   /// Draws a scene (uniformly; for endless data a random 31-bit index) and a sample of it.
   TrainingSample draw(TrainingData& data);
-  /// A sample of a given scene (the scene-drawing step skipped).
-  TrainingSample drawFromScene(const scene::Scene& scene, uint64_t sceneIndex);
+  /// A sample of a given scene (the scene-drawing step skipped); `depths` (per view, as
+  /// TrainingData::depths) fills targetDepths. Depths draw no random numbers, so a sample's
+  /// frames, crop and MixUp are the same with or without them.
+  TrainingSample drawFromScene(const scene::Scene& scene, uint64_t sceneIndex,
+                               const std::vector<std::vector<float>>* depths = nullptr);
 
   TrainRandom& random() { return random_; }
   const SamplingConfig& config() const { return config_; }

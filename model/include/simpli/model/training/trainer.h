@@ -109,6 +109,11 @@ private:
 /// Images [-1, 1] -> one tensor [n, 3, H, W] in `dtype`.
 ocl::Tensor imagesToTensor(const std::vector<io::Image>& images, ocl::Dtype dtype);
 
+/// Depth maps (height x width camera z, 0 = no surface) -> [n, 1, H, W] of 1 / z (0 where no
+/// surface), the form depthLoss takes.
+ocl::Tensor inverseDepthTensor(const std::vector<std::vector<float>>& depths, int width, int height,
+                               ocl::Dtype dtype);
+
 /// The sampler seed of a run seeded with `seed` (distinct from the network's initialisation).
 uint64_t samplerSeed(uint64_t seed);
 
