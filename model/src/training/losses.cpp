@@ -48,10 +48,23 @@ ocl::Tensor depthLoss(const ocl::Tensor& renderedDepth, const ocl::Tensor& rende
       double(std::count_if(inv.begin(), inv.end(), [](double v) { return v > 0; }));
   if (known == 0)
     return ocl::Tensor::zeros({1}, renderedDepth.dtype());
-  const ocl::Tensor residual =
-      ocl::abs(ocl::sub(ocl::mul(renderedDepth, inverseDepth), renderedOpacity));
-  // Pixels without a surface have inverseDepth 0 and drop out here.
-  const ocl::Tensor weighted = ocl::mul(residual, inverseDepth);
+  constexpr double eps = 1e-6; // keeps log finite where nothing is rendered (D = A = 0)
+  // log z = -log(1 / z); pixels without a surface get log z = 0 here and drop out below.
+  const std::vector<double>& invHost = inv;
+  std::vector<double> logZ(invHost.size(), 0.0);
+  for (size_t k = 0; k < invHost.size(); ++k)
+    if (invHost[k] > 0)
+      logZ[k] = -std::log(invHost[k]);
+  const ocl::Tensor logDepth = ocl::sub(ocl::log(ocl::addScalar(renderedDepth, eps)),
+                                        ocl::log(ocl::addScalar(renderedOpacity, eps)));
+  const ocl::Tensor error = ocl::abs(
+      ocl::sub(logDepth, ocl::Tensor::fromHost(logZ, inverseDepth.shape(), inverseDepth.dtype())));
+  std::vector<double> mask(invHost.size());
+  for (size_t k = 0; k < invHost.size(); ++k)
+    mask[k] = invHost[k] > 0 ? 1.0 : 0.0;
+  const ocl::Tensor weighted =
+      ocl::mul(ocl::mul(error, renderedOpacity),
+               ocl::Tensor::fromHost(mask, inverseDepth.shape(), inverseDepth.dtype()));
   return ocl::mulScalar(ocl::sumAll(weighted), 1.0 / known); // [1]
 }
 

@@ -124,10 +124,12 @@ TEST(TrainLosses, MatchDoubleReference) {
   }
 }
 
-// depthLoss = sum over known pixels of |D / z - A| / z, divided by their count.
+// depthLoss = sum over known pixels of A |log((D + eps) / (A + eps)) - log z|, divided by their
+// count.
 TEST(TrainLosses, DepthLossMatchesDoubleReferenceAndFiniteDifferences) {
   std::mt19937 g(17);
   const HostT D = randomT({2, 1, 3, 4}, 0.5, 6.0, g);
+  // (D / A spans about 0.5 .. 120 and 1 / z 0.1 .. 1: errors of both signs.)
   const HostT A = randomT({2, 1, 3, 4}, 0.05, 1.0, g);
   HostT inv = randomT({2, 1, 3, 4}, 0.1, 1.0, g);
   for (size_t k = 0; k < inv.v.size(); k += 5)
@@ -137,7 +139,7 @@ TEST(TrainLosses, DepthLossMatchesDoubleReferenceAndFiniteDifferences) {
     int n = 0;
     for (size_t k = 0; k < d.v.size(); ++k)
       if (inv.v[k] > 0) {
-        s += std::abs(d.v[k] * inv.v[k] - a.v[k]) * inv.v[k];
+        s += a.v[k] * std::abs(std::log((d.v[k] + 1e-6) / (a.v[k] + 1e-6)) + std::log(inv.v[k]));
         ++n;
       }
     return s / n;
@@ -159,16 +161,21 @@ TEST(TrainLosses, DepthLossMatchesDoubleReferenceAndFiniteDifferences) {
     EXPECT_NEAR(gd[k], (reference(dp, A) - reference(dm, A)) / (2 * h), 1e-6) << "D " << k;
     EXPECT_NEAR(ga[k], (reference(D, ap) - reference(D, am)) / (2 * h), 1e-6) << "A " << k;
   }
-  // A render at the true depth with full opacity costs nothing; one with no known pixel is 0.
-  HostT exact = A;
+  // A render at the true depth with full opacity costs nothing (up to eps), and so does a
+  // transparent one (A = D = 0); with no known pixel the loss is 0.
+  HostT exact = A, ones = A, zeros = A;
   for (size_t k = 0; k < exact.v.size(); ++k)
     exact.v[k] = inv.v[k] > 0 ? 1.0 / inv.v[k] : 3.0;
-  HostT ones = A;
   std::fill(ones.v.begin(), ones.v.end(), 1.0);
+  std::fill(zeros.v.begin(), zeros.v.end(), 0.0);
   EXPECT_NEAR(
       depthLoss(dev(exact, ocl::Dtype::F64), dev(ones, ocl::Dtype::F64), dev(inv, ocl::Dtype::F64))
           .item(),
-      0.0, 1e-12);
+      0.0, 1e-5);
+  EXPECT_EQ(
+      depthLoss(dev(zeros, ocl::Dtype::F64), dev(zeros, ocl::Dtype::F64), dev(inv, ocl::Dtype::F64))
+          .item(),
+      0.0);
   HostT none = inv;
   std::fill(none.v.begin(), none.v.end(), 0.0);
   EXPECT_EQ(depthLoss(dev(D, ocl::Dtype::F64), dev(A, ocl::Dtype::F64), dev(none, ocl::Dtype::F64))

@@ -36,14 +36,15 @@ struct LossTerms {
 /// source index floor(dst * in / out). Differentiable (a gather).
 ocl::Tensor resizeNearest(const ocl::Tensor& x, int64_t outH, int64_t outW);
 
-/// Depth supervision of a render, linear in what the renderer outputs (no division by a
-/// predicted quantity, so its gradient stays bounded where the render is nearly transparent):
-///   mean over the pixels with a known surface of | D / z - A | / z
+/// Depth supervision of a render: the opacity-weighted error of the log expected depth,
+///   mean over the pixels with a known surface of A | log((D + eps) / (A + eps)) - log z |
 /// with D [N, 1, H, W] the composited depth sum_k w_k z_k, A [N, 1, H, W] the opacity sum_k w_k
-/// and z the true depth, given as inverseDepth = 1 / z (0 = no surface: not counted). With the
-/// expected depth zhat = D / A this is A |zhat - z| / z^2 = A |1/z - 1/zhat| (zhat / z): the
-/// opacity-weighted disparity error near the truth. Normalised scenes put the near bound at 1,
-/// so the term is on the scale of a disparity error in [0, ~1].
+/// (so D / A is the expected depth zhat, a convex combination of the layer depths), z the true
+/// depth given as inverseDepth = 1 / z (0 = no surface: not counted) and eps = 1e-6. A log
+/// error is a relative one, so near and far surfaces weigh alike on scenes whose depths span
+/// 1:100 (an error in z itself, or in z scaled by 1/z^2, lets the far range dominate); the
+/// gradient is bounded: A / D = 1 / zhat for D, |log(zhat / z)| + 1 for A. A transparent pixel
+/// (A = 0) costs nothing.
 ocl::Tensor depthLoss(const ocl::Tensor& renderedDepth, const ocl::Tensor& renderedOpacity,
                       const ocl::Tensor& inverseDepth);
 
