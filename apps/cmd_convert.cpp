@@ -1,5 +1,6 @@
-// `simpli convert IN OUT [--format jpeg|lossless]`: converts an MLI folder between the
-// reference JPEG form and simpli's lossless float form (model/mli_io.h). The input is read and
+// `simpli convert IN OUT [--format jpeg|lossless|glb]`: converts an MLI folder between the
+// reference JPEG form and simpli's lossless float form (model/mli/files.h), or exports it as a
+// binary glTF file (OUT ending in .glb, or --format glb; model/mli/glb.h). The input is read and
 // validated completely before anything is written, and the output folder appears atomically
 // (writeMLI), so a failure leaves no partial OUT and never damages an existing one. --force
 // replaces only an MLI that simpli wrote and that holds nothing else (mli::mliReplaceRefusal), and
@@ -9,6 +10,7 @@
 #include "simpli/error.h"
 #include "simpli/model/io/staged_folder.h"
 #include "simpli/model/mli/files.h"
+#include "simpli/model/mli/glb.h"
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -49,6 +51,33 @@ const char* formatName(mli::MLIFormat f) {
   return f == mli::MLIFormat::Lossless ? "lossless" : "jpeg";
 }
 
+// OUT is one file: written atomically; an existing file is replaced only with --force, and
+// never a folder.
+void exportGlb(const ConvertOptions& o, const mli::MLIReadOptions& readOptions) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(o.output, ec))
+    fail("output ", o.output, " is a folder; a GLB export writes one file (e.g. ", o.output,
+         "/scene.glb)");
+  if (isSameOrInside(o.output, o.input))
+    fail("output ", o.output, " lies inside the input ", o.input,
+         "; refusing to write into it (choose an output outside the input)");
+  if (fs::exists(o.output, ec) && !o.force)
+    fail("output ", o.output, " already exists (use --force to replace it)");
+  // The file appears by a rename in its folder: that folder must be writable.
+  const std::string parent =
+      fs::path(o.output).parent_path().empty() ? "." : fs::path(o.output).parent_path().string();
+  if (!fs::is_directory(parent, ec))
+    fail("output ", o.output, ": its folder ", parent, " does not exist");
+  io::checkOutputLocation(parent, "output folder");
+  const mli::MLI mli = mli::readMLI(o.input, readOptions);
+  const mli::GlbSummary s = mli::writeGlb(mli, o.output);
+  std::printf("exported %s (%d layers, %d x %d) -> %s (glTF binary: %d layers with triangles, "
+              "%zu vertices, %zu triangles, %.1f MB)\n",
+              o.input.c_str(), mli.numLayers(), mli.width(), mli.height(), o.output.c_str(),
+              s.layers, s.vertices, s.triangles, double(s.bytes) / 1e6);
+}
+
 void runConvert(const ConvertOptions& o) {
   namespace fs = std::filesystem;
   mli::MLIReadOptions readOptions;
@@ -58,8 +87,14 @@ void runConvert(const ConvertOptions& o) {
     readOptions.depthDecoding = mli::MLIDepthDecoding::BinCentre;
   else
     fail("--depth-decoding: unknown value '", o.depthDecoding, "' (expected viewer or bin-centre)");
-  if (o.format != "auto" && o.format != "jpeg" && o.format != "lossless")
-    fail("--format: unknown value '", o.format, "' (expected jpeg, lossless or auto)");
+  if (o.format != "auto" && o.format != "jpeg" && o.format != "lossless" && o.format != "glb")
+    fail("--format: unknown value '", o.format, "' (expected jpeg, lossless, glb or auto)");
+  const bool glb =
+      o.format == "glb" || (o.format == "auto" && fs::path(o.output).extension() == ".glb");
+  if (glb) {
+    exportGlb(o, readOptions);
+    return;
+  }
 
   // Replacing OUT deletes it: never when it holds the input (or is it), and writing into the
   // input would change the MLI being read.
@@ -102,10 +137,12 @@ void addConvertCommand(CLI::App& app) {
       "convert", "Convert an MLI folder between the reference JPEG form and the lossless float "
                  "form (written atomically)");
   cmd->add_option("input", opts->input, "MLI folder to read (either form)")->required();
-  cmd->add_option("output", opts->output, "MLI folder to write")->required();
+  cmd->add_option("output", opts->output, "MLI folder to write, or a .glb file (glTF export)")
+      ->required();
   cmd->add_option("--format", opts->format,
-                  "Output form: jpeg (reference, lossy), lossless (float TIFF, exact) or auto "
-                  "(the form the input is not in)")
+                  "Output form: jpeg (reference, lossy), lossless (float TIFF, exact), glb "
+                  "(binary glTF: textured layer meshes and the reference camera) or auto "
+                  "(glb for an output ending in .glb, else the form the input is not in)")
       ->capture_default_str();
   cmd->add_option("--depth-decoding", opts->depthDecoding,
                   "How 8-bit depths of a JPEG input are decoded: viewer (lo + q (hi - lo)/255) "
@@ -113,7 +150,7 @@ void addConvertCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--force", opts->force,
                 "Replace an existing MLI folder at the output (only one simpli wrote, holding "
-                "nothing else)");
+                "nothing else), or an existing .glb file");
   cmd->callback([opts] { runConvert(*opts); });
 }
 

@@ -17,8 +17,9 @@ packages=(
   libclblast-dev clblast-utils
   # libraries
   libopencv-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libopenblas-dev
-  # tests (PyTorch only for the test of scripts/convert_reference_checkpoint.py)
-  libgtest-dev python3-torch
+  # tests (PyTorch only for the test of scripts/convert_reference_checkpoint.py; tinygltf reads
+  # the GLB export back)
+  libgtest-dev python3-torch libtinygltf-dev
 )
 
 bash "$(dirname "${BASH_SOURCE[0]}")/apt-install-missing.sh" install-deps "${packages[@]}"
