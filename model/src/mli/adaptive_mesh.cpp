@@ -38,6 +38,7 @@ LayerGrid::LayerGrid(const MLI& mli, int k, const AdaptiveMeshOptions& options)
   pixelsPerDisparity = pixelsPerInverseDepth(mli, options);
   // Infinite when B f_px = 0 cannot happen (validated camera, B > 0); tolerance 0 stays 0.
   disparityTolerance = options.tolerancePixels / pixelsPerDisparity;
+  textureTolerance = options.tolerancePixels;
   disparity.resize(n);
   visible.resize(n);
   for (std::size_t p = 0; p < n; ++p) {
@@ -86,6 +87,14 @@ double LayerGrid::twoTriangleDisparity(const Cell& c, double x, double y) const 
 }
 
 bool LayerGrid::twoTrianglesFit(const Cell& c) const {
+  const double tl = 1.0 / disparity[index(c.x0, c.y0)], tr = 1.0 / disparity[index(c.x1, c.y0)];
+  const double bl = 1.0 / disparity[index(c.x0, c.y1)], br = 1.0 / disparity[index(c.x1, c.y1)];
+  const double diagonal = std::hypot(c.x1 - c.x0, c.y1 - c.y0);
+  for (const double third : {bl, tr}) { // (TL, BL, BR) and (TL, BR, TR)
+    const double zMin = std::min({tl, br, third}), zMax = std::max({tl, br, third});
+    if (textureSwimBound(diagonal, zMin, zMax) > textureTolerance)
+      return false;
+  }
   for (int y = c.y0; y <= c.y1; ++y)
     for (int x = c.x0; x <= c.x1; ++x) {
       const std::size_t p = index(x, y);
@@ -311,6 +320,15 @@ double triangleError(const LayerGrid& g, const Triangle& t) {
   return worst;
 }
 
+// textureSwimBound of triangle t.
+double triangleSwim(const Triangle& t) {
+  const int dx = std::max({t[0].X, t[1].X, t[2].X}) - std::min({t[0].X, t[1].X, t[2].X});
+  const int dy = std::max({t[0].Y, t[1].Y, t[2].Y}) - std::min({t[0].Y, t[1].Y, t[2].Y});
+  const double dMin = std::min({t[0].disparity, t[1].disparity, t[2].disparity});
+  const double dMax = std::max({t[0].disparity, t[1].disparity, t[2].disparity});
+  return adaptive::textureSwimBound(0.5 * std::hypot(dx, dy), 1.0 / dMax, 1.0 / dMin);
+}
+
 // True when some visible texel quad overlaps the interior of triangle t (separating axes on
 // the doubled grid: the quad's box against the triangle's bounding box and its three edges).
 bool coversVisibleQuad(const LayerGrid& g, const Triangle& t) {
@@ -475,7 +493,8 @@ AdaptiveLayerMesh buildAdaptiveLayerMesh(const MLI& mli, int k,
       bool fits = true;
       if (t.size() > 2 && !single)
         for (const Triangle& tri : t)
-          fits = fits && triangleError(g, tri) <= g.disparityTolerance;
+          fits = fits && triangleError(g, tri) <= g.disparityTolerance &&
+                 triangleSwim(tri) <= g.textureTolerance;
       if (fits) {
         next.push_back(c);
         triangles.push_back(std::move(t));

@@ -9,6 +9,17 @@
 
 namespace simpli::mli::adaptive {
 
+/// Upper bound of the texture swim of a triangle (texels) whose grid bounding box has diagonal
+/// `diagonal` (texels) and whose vertices' depths span [zMin, zMax]: texture coordinates
+/// interpolated linearly over the 3-D triangle (what OpenGL does) versus the reference
+/// projection of the surface point. With 3-D barycentrics l, the projection is
+/// sum l_i z_i p_i / z, z = sum l_i z_i, so the swim is sum l_i (z_i - z)(p_i - c) / z for any
+/// point c; with c the box centre (|p_i - c| <= diagonal / 2) and the mean absolute deviation
+/// sum l_i |z_i - z| <= (zMax - zMin) / 2, it is at most diagonal (zMax - zMin) / (4 zMin).
+inline double textureSwimBound(double diagonal, double zMin, double zMax) {
+  return diagonal * (zMax - zMin) / (4.0 * zMin);
+}
+
 /// Sums of 0/1 flags over rectangles of a w x h grid in O(1).
 class SummedArea {
 public:
@@ -36,6 +47,7 @@ struct LayerGrid {
   int W, H;
   double pixelsPerDisparity;         ///< B f_px
   double disparityTolerance;         ///< tolerancePixels / (B f_px)
+  double textureTolerance;           ///< tolerancePixels, for the texture swim (texels)
   std::vector<double> disparity;     ///< 1/d per texel
   std::vector<std::uint8_t> visible; ///< alpha >= threshold per texel
   /// Discontinuous edges: cutH[hIndex(x, y)] joins (x, y) and (x + 1, y); cutV[index(x, y)]
@@ -50,7 +62,8 @@ struct LayerGrid {
   /// 1/d of the cell's two triangles (corners only, diagonal top-left to bottom-right) at grid
   /// position (x, y) inside the cell.
   double twoTriangleDisparity(const Cell& c, double x, double y) const;
-  /// Whether the two triangles are within the tolerance at every visible texel of the cell.
+  /// Whether the two triangles are within the tolerance at every visible texel of the cell and
+  /// their texture swim bound is within it too.
   bool twoTrianglesFit(const Cell& c) const;
 
 private:

@@ -25,6 +25,7 @@ AdaptiveMeshError measureAdaptiveMesh(const MLI& mli, int k, const AdaptiveLayer
   const MLILayer& layer = mli.layers[static_cast<std::size_t>(k)];
   const double scale = pixelsPerInverseDepth(mli, options);
   std::vector<double> worst(mli.texels(), -1.0); // -1: not covered
+  std::vector<double> swim(mli.texels(), 0.0);
 
   for (std::size_t t = 0; t < mesh.numTriangles(); ++t) {
     double gx[3], gy[3], disparity[3];
@@ -57,6 +58,14 @@ AdaptiveMeshError measureAdaptiveMesh(const MLI& mli, int k, const AdaptiveLayer
         const double surface = b[0] * disparity[0] + b[1] * disparity[1] + b[2] * disparity[2];
         const double e = scale * std::abs(1.0 / static_cast<double>(layer.depth[p]) - surface);
         worst[p] = std::max(worst[p], e);
+        // The texture coordinate a renderer interpolates at this surface point.
+        double sx = 0, sy = 0;
+        for (int c = 0; c < 3; ++c) {
+          const double l = b[c] * disparity[c] / surface;
+          sx += l * gx[c];
+          sy += l * gy[c];
+        }
+        swim[p] = std::max(swim[p], std::hypot(sx - x, sy - y));
       }
   }
 
@@ -69,6 +78,7 @@ AdaptiveMeshError measureAdaptiveMesh(const MLI& mli, int k, const AdaptiveLayer
       ++out.uncoveredVisibleTexels;
     else
       out.maxPixels = std::max(out.maxPixels, worst[p]);
+    out.maxTextureSwim = std::max(out.maxTextureSwim, swim[p]);
   }
   return out;
 }

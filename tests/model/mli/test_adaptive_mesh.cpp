@@ -91,12 +91,9 @@ TEST(AdaptiveMesh, VerticesLieOnTheirTexelRays) {
   }
 }
 
-TEST(AdaptiveMesh, TiltedPlaneIsExactAtAnyTolerance) {
-  const int W = 120, H = 90;
+// A plane n . X = c in reference-camera coordinates: 1/z = n . ray / c, affine in (u, v).
+mli::MLI tiltedPlane(int W, int H, const Eigen::Vector3d& n, double c) {
   mli::MLI mli = oneLayer(W, H);
-  // A plane n . X = c in reference-camera coordinates: 1/z = n . ray / c, affine in (u, v).
-  const Eigen::Vector3d n(0.4, -0.3, 1.0);
-  const double c = 5.0;
   const scene::Camera& cam = mli.camera;
   for (int i = 0; i < H; ++i)
     for (int j = 0; j < W; ++j) {
@@ -104,14 +101,39 @@ TEST(AdaptiveMesh, TiltedPlaneIsExactAtAnyTolerance) {
                                 (i / (H - 1.0) - cam.cy) / cam.fy, 1.0);
       mli.layers[0].depth[static_cast<std::size_t>(i) * W + j] = static_cast<float>(c / n.dot(ray));
     }
-  // Down to 1e-3 px: the depths are float32, so 1/d carries ~1e-7 relative rounding.
-  for (double tolerance : {1e-3, 0.1, 0.25, 4.0}) {
+  return mli;
+}
+
+TEST(AdaptiveMesh, TiltedPlaneIsExactAtAnyTolerance) {
+  const mli::MLI mli = tiltedPlane(120, 90, {0.4, -0.3, 1.0}, 5.0);
+  // The geometry is exact whatever the tolerance (down to float32 rounding of the depths); the
+  // triangle count follows the texture swim, which shrinks with the tolerance.
+  std::size_t previous = 0;
+  for (double tolerance : {4.0, 0.25, 0.1, 1e-3}) {
     mli::AdaptiveMeshOptions o;
     o.tolerancePixels = tolerance;
     const mli::AdaptiveLayerMesh m = mli::buildAdaptiveLayerMesh(mli, 0, o);
-    EXPECT_EQ(m.numTriangles(), 2u) << "tolerance " << tolerance;
-    EXPECT_LE(mli::measureAdaptiveMesh(mli, 0, m, o).maxPixels, tolerance);
+    const mli::AdaptiveMeshError e = mli::measureAdaptiveMesh(mli, 0, m, o);
+    EXPECT_LT(e.maxPixels, 1e-4) << "tolerance " << tolerance;
+    EXPECT_LE(e.maxTextureSwim, tolerance) << "tolerance " << tolerance;
+    EXPECT_GE(m.numTriangles(), previous) << "tolerance " << tolerance;
+    expectWatertight(m, 120, 90);
+    previous = m.numTriangles();
   }
+  // A plane whose depth varies by 0.1 % over the layer swims by ~0.03 texels: two triangles.
+  const mli::MLI gentle = tiltedPlane(120, 90, {0.0005, 0.0, 1.0}, 5.0);
+  EXPECT_EQ(mli::buildAdaptiveLayerMesh(gentle, 0).numTriangles(), 2u);
+}
+
+TEST(AdaptiveMesh, TextureSwimOfTwoTrianglesIsMeasured) {
+  // The poison for the swim: a slanted plane as two triangles (built at a huge tolerance) swims
+  // by more than a texel, and the measurement sees it.
+  const mli::MLI mli = tiltedPlane(120, 90, {0.4, -0.3, 1.0}, 5.0);
+  mli::AdaptiveMeshOptions loose;
+  loose.tolerancePixels = 1e5;
+  const mli::AdaptiveLayerMesh m = mli::buildAdaptiveLayerMesh(mli, 0, loose);
+  EXPECT_EQ(m.numTriangles(), 2u);
+  EXPECT_GT(mli::measureAdaptiveMesh(mli, 0, m, loose).maxTextureSwim, 1.0);
 }
 
 TEST(AdaptiveMesh, CurvedLayerNeedsMoreTrianglesAtSmallerTolerance) {
@@ -127,7 +149,9 @@ TEST(AdaptiveMesh, CurvedLayerNeedsMoreTrianglesAtSmallerTolerance) {
     const mli::AdaptiveLayerMesh m = mli::buildAdaptiveLayerMesh(mli, 0, o);
     EXPECT_GT(m.numTriangles(), previous) << "tolerance " << tolerance;
     EXPECT_LT(m.numTriangles(), 2u * 199 * 149 / 4) << "tolerance " << tolerance;
-    EXPECT_LE(mli::measureAdaptiveMesh(mli, 0, m, o).maxPixels, tolerance);
+    const mli::AdaptiveMeshError e = mli::measureAdaptiveMesh(mli, 0, m, o);
+    EXPECT_LE(e.maxPixels, tolerance);
+    EXPECT_LE(e.maxTextureSwim, tolerance);
     expectWatertight(m, 200, 150);
     previous = m.numTriangles();
   }
@@ -289,6 +313,7 @@ TEST_P(AdaptiveMeshRandom, ErrorIsWithinToleranceAndEveryVisibleTexelIsCovered) 
   ASSERT_GT(e.visibleTexels, 0u);
   EXPECT_EQ(e.uncoveredVisibleTexels, 0u);
   EXPECT_LE(e.maxPixels, c.tolerance * (1 + 1e-9));
+  EXPECT_LE(e.maxTextureSwim, c.tolerance * (1 + 1e-9));
   // At most the eight quarter triangles of a cut quad per quad.
   EXPECT_LE(m.numTriangles(), 8u * (c.W - 1) * (c.H - 1));
   std::printf("%d x %d, tolerance %g px: %zu triangles (per-texel %d), %zu cut quads, %d passes\n",

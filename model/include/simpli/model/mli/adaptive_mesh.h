@@ -26,11 +26,24 @@
 // MLI's focus depth (scene::trajectoryFocusDepth of its depth range), the lateral radius of
 // the spiral / orbit that `simpli render --trajectory` draws around an MLI without a scene.
 //
+// Texture swim (the second thing the tolerance bounds). A renderer interpolates texture
+// coordinates linearly over the 3-D triangle (OpenGL's perspective-correct interpolation), but
+// the texel that belongs to a surface point is where the reference camera sees it: with 3-D
+// barycentrics l and vertex depths z_i, at sum l_i z_i p_i / sum l_i z_i, not sum l_i p_i. The
+// two agree on triangles of constant reference depth (MPI planes) and differ by up to
+// diagonal (z_max - z_min) / (4 z_min) texels elsewhere (a slanted plane 1000 texels wide with
+// a depth ratio of 1.2 would swim by ~45 texels as two triangles), independently of the viewing
+// camera. Cells are split until this bound is within tolerancePixels too, so slanted layers get
+// cells of about sqrt(4 tolerance / (z |grad 1/z|)) texels: geometry exact, texture within the
+// tolerance. (Projective texturing in a shader would avoid it, but neither ParaView's
+// representations nor glTF can do that.)
+//
 // Construction (a quadtree over the grid's texel quads, top-down from the whole layer):
 //  - a cell whose quads are all transparent (no visible corner) is dropped: no triangle covers
 //    only texels below the alpha threshold;
 //  - a cell is split while its two triangles (corners only, diagonal top-left to bottom-right
-//    as in the per-texel mesh) miss a visible texel's 1/d by more than the tolerance, while it
+//    as in the per-texel mesh) miss a visible texel's 1/d by more than the tolerance or swim
+//    by more than it (bound above), while it
 //    contains a discontinuous texel edge, and while it is partly transparent and larger than
 //    mixedCellSize quads (so that transparent regions are cut away, not drawn at alpha 0);
 //  - a texel edge is discontinuous when one end is visible and the offset camera would see its
@@ -43,8 +56,9 @@
 //    neighbour's edge is part of that neighbour's boundary polygon (a leaf with such vertices is
 //    triangulated as a fan from its centre), so neighbouring triangles share edges exactly (no
 //    T-junctions); a fan that misses the tolerance is split and the leaves are checked again.
-// Constant-depth layers (MPI planes) and planar layers collapse to two triangles per cell that
-// is fully visible, the whole layer when it is all visible.
+// Constant-depth layers (MPI planes) collapse to two triangles per cell that is fully visible,
+// the whole layer when it is all visible; slanted planes are exact at any tolerance (their
+// triangle count follows the texture swim only).
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -100,6 +114,7 @@ AdaptiveLayerMesh buildAdaptiveLayerMesh(const MLI& mli, int k,
 
 struct AdaptiveMeshError {
   double maxPixels = 0.0;                 ///< largest e over the visible texels covered
+  double maxTextureSwim = 0.0;            ///< largest texture swim (texels) at those texels
   std::size_t visibleTexels = 0;          ///< texels with alpha >= alphaThreshold
   std::size_t uncoveredVisibleTexels = 0; ///< visible texels no triangle covers
 };
@@ -107,6 +122,9 @@ struct AdaptiveMeshError {
 /// Measures `mesh` against layer k of `mli`, independently of how it was built: every texel
 /// inside (or on the boundary of) a triangle gets the triangle's barycentric 1/d, the error of
 /// a texel is the largest over the triangles covering it (e as above, with options' offset).
+/// The swim at a texel p with image barycentrics b in a triangle: the surface point seen there
+/// has 3-D barycentrics l_i = (b_i / z_i) / sum (b_j / z_j), where a renderer samples the texture
+/// at sum l_i p_i; the swim is |sum l_i p_i - p|.
 AdaptiveMeshError measureAdaptiveMesh(const MLI& mli, int k, const AdaptiveLayerMesh& mesh,
                                       const AdaptiveMeshOptions& options = {});
 
