@@ -10,6 +10,7 @@
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
 #include <vtkIdTypeArray.h>
+#include <vtkImageData.h>
 #include <vtkInformation.h>
 #include <vtkIntArray.h>
 #include <vtkPartitionedDataSet.h>
@@ -20,6 +21,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include "simpli/error.h"
+#include "simpli/model/mli/adaptive_mesh.h"
 #include "simpli/model/mli/mesh.h"
 
 #include <algorithm>
@@ -99,19 +101,16 @@ std::string pointArrayNames(vtkDataSet* ds) {
   return s.empty() ? "none" : s;
 }
 
-// Point array `name` of layer `ds`: `components` components, `tuples` tuples, as floats.
-std::vector<float> requirePointArray(vtkDataSet* ds, const char* name, int components,
-                                     vtkIdType tuples, const std::string& where) {
-  vtkDataArray* a = ds->GetPointData()->GetArray(name);
-  if (!a)
-    fail(where, ": point data array \"", name,
-         "\" is missing (arrays present: ", pointArrayNames(ds), ")");
+// `a` (named `name`, from `kind` data) as floats: `components` components, `tuples` tuples.
+std::vector<float> requireFloats(vtkDataArray* a, const char* kind, const char* name,
+                                 int components, vtkIdType tuples, const char* perWhat,
+                                 const std::string& where) {
   if (a->GetNumberOfComponents() != components)
-    fail(where, ": point data array \"", name, "\" has ", a->GetNumberOfComponents(),
+    fail(where, ": ", kind, " array \"", name, "\" has ", a->GetNumberOfComponents(),
          " component(s), expected ", components);
   if (a->GetNumberOfTuples() != tuples)
-    fail(where, ": point data array \"", name, "\" has ", a->GetNumberOfTuples(),
-         " tuples, expected ", tuples, " (one per point)");
+    fail(where, ": ", kind, " array \"", name, "\" has ", a->GetNumberOfTuples(),
+         " tuples, expected ", tuples, " (", perWhat, ")");
   std::vector<float> out(static_cast<std::size_t>(tuples) * components);
   if (auto* f = vtkFloatArray::FastDownCast(a)) {
     std::copy(f->GetPointer(0), f->GetPointer(0) + out.size(), out.begin());
@@ -122,6 +121,62 @@ std::vector<float> requirePointArray(vtkDataSet* ds, const char* name, int compo
             static_cast<float>(a->GetComponent(t, c));
   }
   return out;
+}
+
+// Point array `name` of layer `ds`: `components` components, `tuples` tuples, as floats.
+std::vector<float> requirePointArray(vtkDataSet* ds, const char* name, int components,
+                                     vtkIdType tuples, const std::string& where) {
+  vtkDataArray* a = ds->GetPointData()->GetArray(name);
+  if (!a)
+    fail(where, ": point data array \"", name,
+         "\" is missing (arrays present: ", pointArrayNames(ds), ")");
+  return requireFloats(a, "point data", name, components, tuples, "one per point", where);
+}
+
+// Texture array `name` of an adaptive layer's field data, rows flipped back to MLI order
+// (row 0 = top).
+std::vector<float> requireTextureArray(vtkFieldData* fd, const char* name, int components, int W,
+                                       int H, const std::string& where) {
+  vtkDataArray* a = fd->GetArray(name);
+  if (!a)
+    fail(where, ": field data array \"", name, "\" is missing (an adaptive layer, with ",
+         kTextureDepthArray, ", carries ", kTextureColorArray, ", ", kTextureAlphaArray, " and ",
+         kTextureDepthArray, ")");
+  const std::vector<float> image = requireFloats(
+      a, "field data", name, components, static_cast<vtkIdType>(W) * H, "one per texel", where);
+  std::vector<float> out(image.size());
+  const std::size_t row = static_cast<std::size_t>(W) * components;
+  for (int y = 0; y < H; ++y)
+    std::copy_n(image.begin() + static_cast<std::ptrdiff_t>(row * y), row,
+                out.begin() + static_cast<std::ptrdiff_t>(row * (H - 1 - y)));
+  return out;
+}
+
+// The texels of layer `ds` in either form (see the header).
+mli::MLILayer layerTexels(vtkDataSet* ds, int W, int H, const std::string& where) {
+  const vtkIdType texels = static_cast<vtkIdType>(W) * H;
+  vtkFieldData* fd = ds->GetFieldData();
+  mli::MLILayer layer;
+  std::vector<float> rgb, a;
+  if (fd && fd->GetArray(kTextureDepthArray)) {
+    layer.depth = requireTextureArray(fd, kTextureDepthArray, 1, W, H, where);
+    rgb = requireTextureArray(fd, kTextureColorArray, 3, W, H, where);
+    a = requireTextureArray(fd, kTextureAlphaArray, 1, W, H, where);
+  } else {
+    if (ds->GetNumberOfPoints() != texels)
+      fail(where, ": ", ds->GetNumberOfPoints(), " points, expected ", W, " x ", H, " = ", texels,
+           " (one per texel of the ", kImageSizeArray, " grid)");
+    layer.depth = requirePointArray(ds, kDepthArray, 1, texels, where);
+    rgb = requirePointArray(ds, kColorArray, 3, texels, where);
+    a = requirePointArray(ds, kAlphaArray, 1, texels, where);
+  }
+  layer.rgba.resize(static_cast<std::size_t>(texels) * 4);
+  for (std::size_t p = 0; p < static_cast<std::size_t>(texels); ++p) {
+    for (std::size_t c = 0; c < 3; ++c)
+      layer.rgba[4 * p + c] = rgb[3 * p + c];
+    layer.rgba[4 * p + 3] = a[p];
+  }
+  return layer;
 }
 
 } // namespace
@@ -195,22 +250,11 @@ scene::Camera cameraFromFieldData(vtkFieldData* fd, const std::string& context) 
   return cam;
 }
 
-vtkSmartPointer<vtkPolyData> layerToPolyData(const mli::MLI& mli, int k,
-                                             const LayerOptions& options) {
-  mli::MLIMeshOptions meshOptions;
-  if (options.dropTransparentTriangles)
-    meshOptions.dropAlphaBelow = static_cast<float>(options.alphaThreshold);
-  const mli::MLIMesh mesh = mli::buildLayerMesh(mli, k, meshOptions);
-  const vtkIdType n = static_cast<vtkIdType>(mesh.numPoints());
-  const vtkIdType nt = static_cast<vtkIdType>(mesh.numTriangles());
+namespace {
 
-  auto points = vtkSmartPointer<vtkPoints>::New();
-  if (options.doublePrecisionPoints)
-    points->SetData(doublePoints(mli, k));
-  else
-    points->SetData(floatArray("Points", 3, n, mesh.points.data()));
-
-  // The cells' offsets and connectivity are filled directly (millions of triangles).
+// Triangles as a cell array; offsets and connectivity are filled directly (millions of them).
+vtkSmartPointer<vtkCellArray> triangleCells(const std::vector<std::int32_t>& triangles) {
+  const vtkIdType nt = static_cast<vtkIdType>(triangles.size() / 3);
   auto offsets = vtkSmartPointer<vtkIdTypeArray>::New();
   offsets->SetNumberOfTuples(nt + 1);
   for (vtkIdType t = 0; t <= nt; ++t)
@@ -218,9 +262,30 @@ vtkSmartPointer<vtkPolyData> layerToPolyData(const mli::MLI& mli, int k,
   auto connectivity = vtkSmartPointer<vtkIdTypeArray>::New();
   connectivity->SetNumberOfTuples(3 * nt);
   for (vtkIdType i = 0; i < 3 * nt; ++i)
-    connectivity->SetValue(i, mesh.triangles[static_cast<std::size_t>(i)]);
+    connectivity->SetValue(i, triangles[static_cast<std::size_t>(i)]);
   auto polys = vtkSmartPointer<vtkCellArray>::New();
   polys->SetData(offsets, connectivity);
+  return polys;
+}
+
+unsigned char toByte(float c) {
+  // Rounded, not truncated: q/255 read from an 8-bit file maps back to q exactly.
+  return static_cast<unsigned char>(std::lround(255.0 * c));
+}
+
+vtkSmartPointer<vtkPolyData> perTexelPolyData(const mli::MLI& mli, int k,
+                                              const LayerOptions& options) {
+  mli::MLIMeshOptions meshOptions;
+  if (options.dropTransparentTriangles)
+    meshOptions.dropAlphaBelow = static_cast<float>(options.alphaThreshold);
+  const mli::MLIMesh mesh = mli::buildLayerMesh(mli, k, meshOptions);
+  const vtkIdType n = static_cast<vtkIdType>(mesh.numPoints());
+
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  if (options.doublePrecisionPoints)
+    points->SetData(doublePoints(mli, k));
+  else
+    points->SetData(floatArray("Points", 3, n, mesh.points.data()));
 
   auto rgba = vtkSmartPointer<vtkUnsignedCharArray>::New();
   rgba->SetName(kRGBAArray);
@@ -244,8 +309,7 @@ vtkSmartPointer<vtkPolyData> layerToPolyData(const mli::MLI& mli, int k,
   for (vtkIdType p = 0; p < n; ++p) {
     const float* src = mesh.rgba.data() + 4 * p;
     for (int c = 0; c < 4; ++c)
-      // Rounded, not truncated: q/255 read from an 8-bit file maps back to q exactly.
-      bytes[4 * p + c] = static_cast<unsigned char>(std::lround(255.0 * src[c]));
+      bytes[4 * p + c] = toByte(src[c]);
     rgb[3 * p + 0] = src[0];
     rgb[3 * p + 1] = src[1];
     rgb[3 * p + 2] = src[2];
@@ -256,15 +320,123 @@ vtkSmartPointer<vtkPolyData> layerToPolyData(const mli::MLI& mli, int k,
 
   auto pd = vtkSmartPointer<vtkPolyData>::New();
   pd->SetPoints(points);
-  pd->SetPolys(polys);
+  pd->SetPolys(triangleCells(mesh.triangles));
   vtkPointData* pointData = pd->GetPointData();
   pointData->SetScalars(rgba);
   pointData->AddArray(color);
   pointData->AddArray(alpha);
   pointData->AddArray(floatArray(kDepthArray, 1, n, mesh.depth.data()));
   pointData->SetTCoords(tcoords);
+  return pd;
+}
+
+// The layer's texels in vtkImageData order (row 0 = MLI row H - 1) as field data arrays.
+void addTextureFieldData(vtkFieldData* fd, const mli::MLI& mli, int k) {
+  const int W = mli.width(), H = mli.height();
+  const vtkIdType n = static_cast<vtkIdType>(mli.texels());
+  const mli::MLILayer& layer = mli.layers[static_cast<std::size_t>(k)];
+  auto rgba = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  rgba->SetName(kTextureRGBAArray);
+  rgba->SetNumberOfComponents(4);
+  rgba->SetNumberOfTuples(n);
+  auto color = vtkSmartPointer<vtkFloatArray>::New();
+  color->SetName(kTextureColorArray);
+  color->SetNumberOfComponents(3);
+  color->SetNumberOfTuples(n);
+  auto alpha = vtkSmartPointer<vtkFloatArray>::New();
+  alpha->SetName(kTextureAlphaArray);
+  alpha->SetNumberOfTuples(n);
+  auto depth = vtkSmartPointer<vtkFloatArray>::New();
+  depth->SetName(kTextureDepthArray);
+  depth->SetNumberOfTuples(n);
+  for (int y = 0; y < H; ++y) {
+    const std::size_t row = static_cast<std::size_t>(H - 1 - y) * W;
+    for (int x = 0; x < W; ++x) {
+      const std::size_t src = row + x;
+      const vtkIdType dst = static_cast<vtkIdType>(y) * W + x;
+      const float* c = &layer.rgba[4 * src];
+      for (int ch = 0; ch < 4; ++ch)
+        rgba->SetValue(4 * dst + ch, toByte(c[ch]));
+      for (int ch = 0; ch < 3; ++ch)
+        color->SetValue(3 * dst + ch, c[ch]);
+      alpha->SetValue(dst, c[3]);
+      depth->SetValue(dst, layer.depth[src]);
+    }
+  }
+  auto size = vtkSmartPointer<vtkIntArray>::New();
+  size->SetName(kTextureSizeArray);
+  size->SetNumberOfComponents(2);
+  const int wh[2] = {W, H};
+  size->InsertNextTypedTuple(wh);
+  fd->AddArray(rgba);
+  fd->AddArray(color);
+  fd->AddArray(alpha);
+  fd->AddArray(depth);
+  fd->AddArray(size);
+}
+
+vtkSmartPointer<vtkPolyData> adaptivePolyData(const mli::MLI& mli, int k,
+                                              const LayerOptions& options) {
+  mli::AdaptiveMeshOptions meshOptions;
+  meshOptions.tolerancePixels = options.meshTolerance;
+  meshOptions.alphaThreshold = static_cast<float>(options.alphaThreshold);
+  const mli::AdaptiveLayerMesh mesh = mli::buildAdaptiveLayerMesh(mli, k, meshOptions);
+  const vtkIdType n = static_cast<vtkIdType>(mesh.numPoints());
+  const double W = mli.width(), H = mli.height();
+
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetData(floatArray("Points", 3, n, mesh.points.data()));
+  auto tcoords = vtkSmartPointer<vtkFloatArray>::New();
+  tcoords->SetName(kTCoordsArray);
+  tcoords->SetNumberOfComponents(2);
+  tcoords->SetNumberOfTuples(n);
+  for (vtkIdType p = 0; p < n; ++p) {
+    tcoords->SetValue(2 * p, static_cast<float>((mesh.grid[2 * p] + 0.5) / W));
+    tcoords->SetValue(2 * p + 1, static_cast<float>(1.0 - (mesh.grid[2 * p + 1] + 0.5) / H));
+  }
+
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->SetPoints(points);
+  pd->SetPolys(triangleCells(mesh.triangles));
+  pd->GetPointData()->SetTCoords(tcoords);
+  pd->GetPointData()->AddArray(floatArray(kDepthArray, 1, n, mesh.depth.data()));
+  addTextureFieldData(pd->GetFieldData(), mli, k);
+  auto tolerance = vtkSmartPointer<vtkDoubleArray>::New();
+  tolerance->SetName(kMeshToleranceArray);
+  tolerance->InsertNextValue(options.meshTolerance);
+  pd->GetFieldData()->AddArray(tolerance);
+  return pd;
+}
+
+} // namespace
+
+vtkSmartPointer<vtkPolyData> layerToPolyData(const mli::MLI& mli, int k,
+                                             const LayerOptions& options) {
+  vtkSmartPointer<vtkPolyData> pd = options.meshMode == MeshMode::Adaptive
+                                        ? adaptivePolyData(mli, k, options)
+                                        : perTexelPolyData(mli, k, options);
   pd->GetFieldData()->AddArray(intValue(kLayerIndexArray, k));
   return pd;
+}
+
+vtkSmartPointer<vtkImageData> layerTexture(vtkPolyData* layer) {
+  vtkFieldData* fd = layer ? layer->GetFieldData() : nullptr;
+  vtkDataArray* rgba = fd ? fd->GetArray(kTextureRGBAArray) : nullptr;
+  vtkDataArray* size = fd ? fd->GetArray(kTextureSizeArray) : nullptr;
+  if (!rgba || !size || size->GetNumberOfComponents() != 2 || size->GetNumberOfTuples() != 1)
+    return nullptr;
+  const int W = static_cast<int>(size->GetComponent(0, 0));
+  const int H = static_cast<int>(size->GetComponent(0, 1));
+  if (W < 1 || H < 1 || rgba->GetNumberOfTuples() != static_cast<vtkIdType>(W) * H)
+    return nullptr;
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(W, H, 1);
+  image->GetPointData()->SetScalars(rgba);
+  for (const char* name : {kTextureColorArray, kTextureAlphaArray, kTextureDepthArray})
+    if (vtkDataArray* a = fd->GetArray(name))
+      if (a->GetNumberOfTuples() == rgba->GetNumberOfTuples())
+        image->GetPointData()->AddArray(a);
+  return image;
 }
 
 bool mliToCollection(const mli::MLI& mli, const LayerOptions& options,
@@ -306,7 +478,6 @@ mli::MLI collectionToMLI(vtkPartitionedDataSetCollection* in, const std::string&
   mli::MLI mli;
   mli.camera = cameraFromFieldData(in->GetFieldData(), context);
   const int W = mli.camera.width, H = mli.camera.height;
-  const vtkIdType texels = static_cast<vtkIdType>(W) * H;
   const unsigned int L = in->GetNumberOfPartitionedDataSets();
   if (L == 0)
     fail(context, ": the collection holds no layers (no partitioned data sets)");
@@ -322,20 +493,7 @@ mli::MLI collectionToMLI(vtkPartitionedDataSetCollection* in, const std::string&
     if (parts != 1 || !ds)
       fail(where, ": expected one data set (a vtkPolyData), found ", parts, " partition(s)",
            parts == 1 ? " with no data set" : "");
-    if (ds->GetNumberOfPoints() != texels)
-      fail(where, ": ", ds->GetNumberOfPoints(), " points, expected ", W, " x ", H, " = ", texels,
-           " (one per texel of the ", kImageSizeArray, " grid)");
-    mli::MLILayer layer;
-    layer.depth = requirePointArray(ds, kDepthArray, 1, texels, where);
-    const std::vector<float> rgb = requirePointArray(ds, kColorArray, 3, texels, where);
-    const std::vector<float> a = requirePointArray(ds, kAlphaArray, 1, texels, where);
-    layer.rgba.resize(static_cast<std::size_t>(texels) * 4);
-    for (std::size_t p = 0; p < static_cast<std::size_t>(texels); ++p) {
-      for (std::size_t c = 0; c < 3; ++c)
-        layer.rgba[4 * p + c] = rgb[3 * p + c];
-      layer.rgba[4 * p + 3] = a[p];
-    }
-    mli.layers.push_back(std::move(layer));
+    mli.layers.push_back(layerTexels(ds, W, H, where));
   }
   mli::validateMLI(mli, context);
   return mli;

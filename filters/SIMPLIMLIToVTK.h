@@ -30,9 +30,26 @@
 //            image row 0 is the top of a texture
 // Layer field data: LayerIndex (vtkIntArray, 1 value: the index KK in the MLI).
 //
-// Going back (collectionToMLI), Color, Alpha and Depth are the source of truth (RGBA is 8-bit
-// and is ignored) and the geometry is rebuilt from Depth and the camera (point coordinates are
-// not read), so reading and writing the lossless form is exact.
+// Adaptive layers (LayerOptions::meshMode = Adaptive; the display form of mli/adaptive_mesh.h):
+// the vtkPolyData holds the adaptive mesh, points in world coordinates and triangles only where
+// the depth needs them and something is visible. Point data:
+//   TCoords  vtkFloatArray, 2 components, the active texture coordinates: ((x + 0.5) / W,
+//            1 - (y + 0.5) / H) for corner-grid position (x, y), so that texel (i, j)'s centre
+//            is sampled exactly at the vertex on its ray (as the per-texel mesh's vertex colour)
+//   Depth    vtkFloatArray: reference-camera z of the vertex
+// The layer's RGBA travels at full resolution in the layer's field data, W x H tuples in
+// vtkImageData order (row 0 = the bottom image row, i.e. MLI row H - 1), ready to be the
+// scalars of the texture image (layerTexture):
+//   TextureRGBA   vtkUnsignedCharArray, 4 components: round(255 c), straight colour and alpha
+//   TextureColor  vtkFloatArray, 3 components; TextureAlpha, TextureDepth  vtkFloatArray: the
+//                 exact texel values (so that collectionToMLI is exact for this form too)
+//   TextureSize   vtkIntArray, 2 components: W, H
+//   MeshTolerance vtkDoubleArray, 1 value: the tolerance the mesh was built with (pixels)
+//
+// Going back (collectionToMLI), Color, Alpha and Depth (TextureColor, TextureAlpha and
+// TextureDepth for an adaptive layer) are the source of truth (RGBA is 8-bit and is ignored)
+// and the geometry is rebuilt from Depth and the camera (point coordinates are not read), so
+// reading and writing the lossless form is exact.
 #pragma once
 
 #include <functional>
@@ -40,9 +57,11 @@
 
 #include <vtkSmartPointer.h>
 
+#include "simpli/model/mli/adaptive_mesh.h"
 #include "simpli/model/mli/mli.h"
 
 class vtkFieldData;
+class vtkImageData;
 class vtkPartitionedDataSetCollection;
 class vtkPolyData;
 
@@ -58,11 +77,26 @@ inline constexpr const char* kColorArray = "Color";
 inline constexpr const char* kAlphaArray = "Alpha";
 inline constexpr const char* kDepthArray = "Depth";
 inline constexpr const char* kTCoordsArray = "TCoords";
+inline constexpr const char* kTextureRGBAArray = "TextureRGBA";
+inline constexpr const char* kTextureColorArray = "TextureColor";
+inline constexpr const char* kTextureAlphaArray = "TextureAlpha";
+inline constexpr const char* kTextureDepthArray = "TextureDepth";
+inline constexpr const char* kTextureSizeArray = "TextureSize";
+inline constexpr const char* kMeshToleranceArray = "MeshTolerance";
 inline constexpr const char* kAssemblyRoot = "MLI";
 inline constexpr const char* kAssemblyLayers = "Layers";
 
+enum class MeshMode {
+  PerTexel, ///< one vertex per texel, per-point RGBA (what the rasterizer and training use)
+  Adaptive  ///< mli/adaptive_mesh.h with the RGBA as a texture (real-time display)
+};
+
 struct LayerOptions {
-  /// Drop the triangles whose three vertices all have alpha < alphaThreshold.
+  MeshMode meshMode = MeshMode::PerTexel;
+  /// Adaptive meshes: largest reprojection error in pixels (mli::AdaptiveMeshOptions).
+  double meshTolerance = mli::AdaptiveMeshOptions{}.tolerancePixels;
+  /// Per-texel meshes: drop the triangles whose three vertices all have alpha < alphaThreshold
+  /// (adaptive meshes always leave transparent regions out).
   bool dropTransparentTriangles = false;
   /// Leave out the layers whose every alpha is < alphaThreshold.
   bool skipEmptyLayers = false;
@@ -82,9 +116,15 @@ void addCameraFieldData(vtkFieldData* fd, const scene::Camera& camera);
 /// the value when an array is missing, has the wrong shape or the camera is invalid.
 scene::Camera cameraFromFieldData(vtkFieldData* fd, const std::string& context);
 
-/// Layer k of `mli` as a vtkPolyData (the MLI must be valid: see validateMLI).
+/// Layer k of `mli` as a vtkPolyData in options.meshMode's form (the MLI must be valid: see
+/// validateMLI).
 vtkSmartPointer<vtkPolyData> layerToPolyData(const mli::MLI& mli, int k,
                                              const LayerOptions& options);
+
+/// The texture of an adaptive layer: a W x H vtkImageData whose point data are the layer's
+/// Texture* arrays (shared, not copied; TextureRGBA the active scalars, the others under their
+/// names). Null for a layer without a texture (the per-texel form).
+vtkSmartPointer<vtkImageData> layerTexture(vtkPolyData* layer);
 
 /// Replaces the contents of `out` with `mli`. `progress(f)` is called before each layer with
 /// f in [0, 1); when it returns false the conversion stops, `out` is emptied and the result is
@@ -95,8 +135,9 @@ bool mliToCollection(const mli::MLI& mli, const LayerOptions& options,
 
 /// The MLI held by `in` (dataset order = layer order, back to front). Throws simpli::Error
 /// starting with `context` and naming the layer, the array and the value for a missing camera
-/// or array, a layer that is not one data set with W x H points, or values that validateMLI
-/// rejects.
+/// or array, a layer that is not one data set with W x H points (per-texel form) or W x H
+/// texture tuples (adaptive form, told apart by its TextureDepth array), or values that
+/// validateMLI rejects.
 mli::MLI collectionToMLI(vtkPartitionedDataSetCollection* in, const std::string& context);
 
 } // namespace simpli::vtkmli

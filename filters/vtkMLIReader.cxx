@@ -75,6 +75,9 @@ int vtkMLIReader::RequestData(vtkInformation* vtkNotUsed(request),
         options.dropTransparentTriangles = this->DropTransparentTriangles;
         options.skipEmptyLayers = this->SkipEmptyLayers;
         options.alphaThreshold = this->AlphaThreshold;
+        options.meshMode = this->MeshMode == MESH_ADAPTIVE ? simpli::vtkmli::MeshMode::Adaptive
+                                                           : simpli::vtkmli::MeshMode::PerTexel;
+        options.meshTolerance = this->MeshTolerance;
         // Decoding the images dominates; call it half of the work, the meshes the other half.
         if (!simpli::vtkmli::mliToCollection(mli, options, output, progress.range(0.5, 1.0)))
           vtkDebugMacro(<< "Aborted while building the layer meshes of " << this->FileName);
@@ -88,6 +91,9 @@ void vtkMLIReader::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "DropTransparentTriangles: " << this->DropTransparentTriangles << "\n";
   os << indent << "SkipEmptyLayers: " << this->SkipEmptyLayers << "\n";
   os << indent << "AlphaThreshold: " << this->AlphaThreshold << "\n";
+  os << indent << "MeshMode: " << (this->MeshMode == MESH_ADAPTIVE ? "Adaptive" : "PerTexel")
+     << "\n";
+  os << indent << "MeshTolerance: " << this->MeshTolerance << "\n";
   os << indent
      << "DepthDecoding: " << (this->DepthDecoding == DEPTH_BIN_CENTRE ? "BinCentre" : "Viewer")
      << "\n";

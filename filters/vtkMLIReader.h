@@ -11,9 +11,9 @@
  * per layer, back to front (dataset 0 = layer 00, the farthest), named "LayerKK", with a
  * vtkDataAssembly /MLI/Layers/LayerKK.
  *
- * Layer meshes: one point per texel on the corner grid u = j/(W-1), v = i/(H-1),
- * back-projected at the texel depth through the reference camera into world coordinates; two
- * triangles per texel quad. Point data:
+ * Layer meshes (MeshMode MESH_PER_TEXEL, the default): one point per texel on the corner grid
+ * u = j/(W-1), v = i/(H-1), back-projected at the texel depth through the reference camera into
+ * world coordinates; two triangles per texel quad. Point data:
  *   - "RGBA" (vtkUnsignedCharArray, 4 components, the active scalars): round(255 x) of the
  *     straight colour and alpha; render with direct scalars (ParaView: MapScalars off);
  *   - "Color" (float, 3 components) and "Alpha" (float): the exact texel values in [0, 1];
@@ -24,7 +24,10 @@
  *   - "CameraExtrinsics" (double, 12 components): world->camera [R | t], 3 x 4 row-major;
  *   - "CameraImageSize" (int, 2 components): layer width and height in texels;
  *   - "NumberOfLayers" (int): L of the MLI, including layers left out by SkipEmptyLayers.
- * vtkMLIWriter writes this layout back; with the lossless form the round trip is exact.
+ * MeshMode MESH_ADAPTIVE: adaptive meshes (simpli/model/mli/adaptive_mesh.h) with "TCoords" and
+ * "Depth" per point and the layer's texels in its field data ("TextureRGBA" for a texture,
+ * exact "TextureColor", "TextureAlpha", "TextureDepth", "TextureSize").
+ * vtkMLIWriter writes either layout back; with the lossless form the round trip is exact.
  *
  * Errors (missing folder, malformed meta.json, unreadable or mis-sized layer image, invalid
  * values) are reported with vtkErrorMacro, naming the file, the field and the value, and the
@@ -88,6 +91,33 @@ public:
   vtkGetMacro(AlphaThreshold, double);
   ///@}
 
+  enum MeshModes {
+    MESH_PER_TEXEL = 0, ///< one point per texel, per-point RGBA (the reference mesh)
+    MESH_ADAPTIVE = 1   ///< adaptive mesh, RGBA as a per-layer texture (real-time display)
+  };
+
+  ///@{
+  /**
+   * The layers' mesh form. MESH_PER_TEXEL (default): one point per texel with per-point RGBA,
+   * what the rasterizer and training use. MESH_ADAPTIVE: triangles only where the depth needs
+   * them (within MeshTolerance) and where something is visible (alpha >= AlphaThreshold), depth
+   * steps cut rather than bridged, TCoords per point and the RGBA at full resolution in the
+   * layer's field data (TextureRGBA ..., see SIMPLIMLIToVTK.h); draw it with a texture per layer.
+   */
+  vtkSetClampMacro(MeshMode, int, MESH_PER_TEXEL, MESH_ADAPTIVE);
+  vtkGetMacro(MeshMode, int);
+  ///@}
+
+  ///@{
+  /**
+   * MESH_ADAPTIVE: largest reprojection error in pixels of the layer grid, at the visible
+   * texels, for a camera displaced by 0.05 x the MLI's focus depth (mli/adaptive_mesh.h).
+   * Default 0.25.
+   */
+  vtkSetClampMacro(MeshTolerance, double, 0.0, 1.0e6);
+  vtkGetMacro(MeshTolerance, double);
+  ///@}
+
   enum DepthDecodings {
     DEPTH_VIEWER = 0,    ///< D = lo + q (hi - lo) / 255, as the official web viewer decodes
     DEPTH_BIN_CENTRE = 1 ///< D = lo + (q + 0.5)(hi - lo) / 256, the centre of the encoder's bin
@@ -116,6 +146,8 @@ protected:
   bool DropTransparentTriangles = false;
   bool SkipEmptyLayers = false;
   double AlphaThreshold = 1.0 / 255.0;
+  int MeshMode = MESH_PER_TEXEL;
+  double MeshTolerance = 0.25;
   int DepthDecoding = DEPTH_VIEWER;
 
 private:

@@ -40,7 +40,8 @@ public:
   /// The network of WeightsFile / Config / RandomSeed on Device (cached), checked against
   /// NumberOfPlanes and CorrectionSteps.
   const simpli::network::LoadedNetwork& LoadNetwork(vtkSIMPLIBuildMLI* self);
-  /// The MLI as layer meshes per DropEmptyLayers, EmptyLayerThreshold, DropTransparentTriangles;
+  /// The MLI as layer meshes per DropEmptyLayers, EmptyLayerThreshold, DropTransparentTriangles,
+  /// MeshMode, MeshTolerance;
   /// false when aborted.
   static bool FillLayers(vtkSIMPLIBuildMLI* self, const simpli::mli::MLI& mli,
                          vtkPartitionedDataSetCollection* output,
@@ -269,6 +270,9 @@ bool vtkSIMPLIBuildMLI::vtkInternals::FillLayers(vtkSIMPLIBuildMLI* self,
   simpli::vtkmli::LayerOptions layerOptions;
   layerOptions.dropTransparentTriangles = self->DropTransparentTriangles;
   layerOptions.alphaThreshold = self->EmptyLayerThreshold;
+  layerOptions.meshMode = self->MeshMode == MESH_ADAPTIVE ? simpli::vtkmli::MeshMode::Adaptive
+                                                          : simpli::vtkmli::MeshMode::PerTexel;
+  layerOptions.meshTolerance = self->MeshTolerance;
   // "auto" layers; an MLI whose every layer is empty keeps them all (never an empty output).
   layerOptions.skipEmptyLayers =
       self->DropEmptyLayers &&
@@ -286,6 +290,9 @@ void vtkSIMPLIBuildMLI::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "DropEmptyLayers: " << this->DropEmptyLayers << "\n";
   os << indent << "EmptyLayerThreshold: " << this->EmptyLayerThreshold << "\n";
   os << indent << "DropTransparentTriangles: " << this->DropTransparentTriangles << "\n";
+  os << indent << "MeshMode: " << (this->MeshMode == MESH_ADAPTIVE ? "Adaptive" : "PerTexel")
+     << "\n";
+  os << indent << "MeshTolerance: " << this->MeshTolerance << "\n";
   os << indent << "NumberOfPlanes: " << this->NumberOfPlanes << "\n";
   os << indent << "CorrectionSteps: " << this->CorrectionSteps << "\n";
   os << indent << "SourceViews: " << (this->SourceViews ? this->SourceViews : "(all)") << "\n";

@@ -15,8 +15,9 @@
  * empty). The loaded network is kept between updates while WeightsFile (and its modification
  * time), Config, RandomSeed and Device stay the same; the last forward pass's MLI is kept too
  * and reused while the network, the source views' pixels and cameras, the depth range and
- * CorrectionSteps stay the same (so DropEmptyLayers, EmptyLayerThreshold and
- * DropTransparentTriangles take effect without rerunning the network).
+ * CorrectionSteps stay the same (so DropEmptyLayers, EmptyLayerThreshold,
+ * DropTransparentTriangles, MeshMode and MeshTolerance take effect without rerunning the
+ * network).
  *
  * The forward pass (simpli/model/generator/generator.h) takes the views listed in SourceViews
  * ("0,2,5"; empty = every view), with the reference camera at their pose average, the planes
@@ -30,8 +31,8 @@
  * vtkPolyData per layer, back to front, point data RGBA / Color / Alpha / Depth / TCoords, the
  * reference camera and NumberOfLayers in the field data; see vtkMLIReader). DropEmptyLayers
  * leaves out the layers whose every alpha is below EmptyLayerThreshold ("auto" layers; when
- * every layer is empty all are kept, an MLI is never empty); DropTransparentTriangles as in
- * vtkMLIReader. Further collection field data:
+ * every layer is empty all are kept, an MLI is never empty); DropTransparentTriangles, MeshMode
+ * and MeshTolerance as in vtkMLIReader. Further collection field data:
  *   - "StageNames" (string) and "StageTimes" (double, milliseconds), one tuple per stage:
  *     read_scene, load_network (near 0 when the cached network was reused), the generator's
  *     stages (timed with the device queue finished after each) and to_mli, or forward_reused
@@ -112,6 +113,33 @@ public:
   vtkBooleanMacro(DropTransparentTriangles, bool);
   ///@}
 
+  enum MeshModes {
+    MESH_PER_TEXEL = 0, ///< one point per texel, per-point RGBA (the reference mesh)
+    MESH_ADAPTIVE = 1   ///< adaptive mesh, RGBA as a per-layer texture (real-time display)
+  };
+
+  ///@{
+  /**
+   * The layers' mesh form. MESH_PER_TEXEL (default): one point per texel with per-point RGBA,
+   * what the rasterizer and training use. MESH_ADAPTIVE: triangles only where the depth needs
+   * them (within MeshTolerance) and where something is visible (alpha >= EmptyLayerThreshold),
+   * depth steps cut rather than bridged, TCoords per point and the RGBA at full resolution in the
+   * layer's field data (TextureRGBA ..., see SIMPLIMLIToVTK.h); draw it with a texture per layer.
+   */
+  vtkSetClampMacro(MeshMode, int, MESH_PER_TEXEL, MESH_ADAPTIVE);
+  vtkGetMacro(MeshMode, int);
+  ///@}
+
+  ///@{
+  /**
+   * MESH_ADAPTIVE: largest reprojection error in pixels of the layer grid, at the visible
+   * texels, for a camera displaced by 0.05 x the MLI's focus depth (mli/adaptive_mesh.h).
+   * Default 0.25.
+   */
+  vtkSetClampMacro(MeshTolerance, double, 0.0, 1.0e6);
+  vtkGetMacro(MeshTolerance, double);
+  ///@}
+
   ///@{
   /**
    * Planes of the plane sweep: 0 = the config's (default); any other value must equal it.
@@ -186,6 +214,8 @@ protected:
   bool DropEmptyLayers = false;
   double EmptyLayerThreshold = 1.0 / 255.0;
   bool DropTransparentTriangles = false;
+  int MeshMode = MESH_PER_TEXEL;
+  double MeshTolerance = 0.25;
   int NumberOfPlanes = 0;
   int CorrectionSteps = -1;
   char* SourceViews = nullptr;

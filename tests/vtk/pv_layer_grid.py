@@ -73,7 +73,8 @@ if info.GetNumberOfPoints() != W * H:
 if info.GetNumberOfCells() != 2 * (W - 1) * (H - 1):
     fail(f"{info.GetNumberOfCells()} cells, expected {2 * (W - 1) * (H - 1)}")
 arrays = sorted(src.PointData.keys())
-if arrays != ["Alpha", "Depth", "RGBA", "TCoords"]:
+# The layout of every MLI layer in the module (SIMPLIMLIToVTK.h).
+if arrays != ["Alpha", "Color", "Depth", "RGBA", "TCoords"]:
     fail(f"point arrays {arrays}")
 bounds = info.GetBounds()
 for got, want in zip(bounds, (-1.0, 1.0, -0.5, 1.5, 2.0, 2.0)):

@@ -45,7 +45,7 @@ assert out.GetNumberOfPoints() == 18, out.GetNumberOfPoints()
 assert out.GetNumberOfPolys() == 2 * 5 * 2, out.GetNumberOfPolys()
 pd = out.GetPointData()
 names = sorted(pd.GetArrayName(i) for i in range(pd.GetNumberOfArrays()))
-assert names == ["Alpha", "Depth", "RGBA", "TCoords"], names
+assert names == ["Alpha", "Color", "Depth", "RGBA", "TCoords"], names
 assert pd.GetScalars().GetName() == "RGBA"
 assert pd.GetScalars().GetTuple4(7) == (51.0, 102.0, 204.0, 255.0), pd.GetScalars().GetTuple4(7)
 # Last vertex: u = v = 1 -> 4 * ((1 - 0.25) / 2, (1 - 0.75) / 0.5, 1) = (1.5, 2, 4).

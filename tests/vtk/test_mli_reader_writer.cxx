@@ -271,6 +271,99 @@ TEST(MLIWriter, SkippedLayersAndDroppedTrianglesStillWrite) {
   EXPECT_EQ(back.layers[1].depth, mli.layers[2].depth);
 }
 
+// Layer 0 a constant-depth opaque plane, layer 1 random (depth and alpha).
+mli::MLI planeAndRandomMLI(int H, int W) {
+  mli::MLI mli = randomMLI(2, H, W, 6);
+  for (std::size_t p = 0; p < mli.texels(); ++p) {
+    mli.layers[0].depth[p] = 30.0f;
+    mli.layers[0].rgba[4 * p + 3] = 1.0f;
+  }
+  return mli;
+}
+
+TEST(MLIReader, AdaptiveLayout) {
+  const int H = 9, W = 12;
+  TempDir dir;
+  const mli::MLI mli = planeAndRandomMLI(H, W);
+  mli::writeMLI(dir / "scene", mli, mli::MLIFormat::Lossless);
+  vtkNew<vtkMLIReader> reader;
+  reader->SetFileName((dir / "scene").c_str());
+  reader->SetMeshMode(vtkMLIReader::MESH_ADAPTIVE);
+  reader->SetMeshTolerance(0.5);
+  vtkNew<ErrorRecorder> errors;
+  ASSERT_EQ(runWithErrors(reader, errors), 1) << errors->all();
+  vtkPartitionedDataSetCollection* out = reader->GetOutput();
+  ASSERT_EQ(out->GetNumberOfPartitionedDataSets(), 2u);
+  // The plane: two triangles over four corner points.
+  EXPECT_EQ(layerAt(out, 0)->GetNumberOfPolys(), 2);
+  EXPECT_EQ(layerAt(out, 0)->GetNumberOfPoints(), 4);
+  for (int k = 0; k < 2; ++k) {
+    vtkPolyData* pd = layerAt(out, k);
+    const mli::MLILayer& layer = mli.layers[k];
+    auto* tc = vtkFloatArray::SafeDownCast(pd->GetPointData()->GetTCoords());
+    auto* depth = vtkFloatArray::SafeDownCast(pd->GetPointData()->GetArray("Depth"));
+    ASSERT_TRUE(tc && depth);
+    EXPECT_EQ(pd->GetPointData()->GetScalars(), nullptr) << "colour comes from the texture";
+    // Points on texels: their texture coordinate hits the texel centre, their depth is the
+    // texel's and they lie on its reference ray.
+    int onTexels = 0;
+    for (vtkIdType v = 0; v < pd->GetNumberOfPoints(); ++v) {
+      const double x = tc->GetTypedComponent(v, 0) * W - 0.5;
+      const double y = (1.0 - tc->GetTypedComponent(v, 1)) * H - 0.5;
+      const int j = static_cast<int>(std::lround(x)), i = static_cast<int>(std::lround(y));
+      if (std::abs(x - j) > 1e-4 || std::abs(y - i) > 1e-4)
+        continue; // a half-grid vertex of a cut quad
+      ++onTexels;
+      EXPECT_EQ(depth->GetValue(v), layer.depth[static_cast<std::size_t>(i) * W + j]);
+      const Eigen::Vector3d X = mli::mliVertex(mli.camera, i, j, depth->GetValue(v));
+      double got[3];
+      pd->GetPoint(v, got);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(got[c], X(c), 1e-5 * (1.0 + X.norm()));
+    }
+    EXPECT_GE(onTexels, 4);
+    // The texels in the field data, vtkImageData row order (row 0 = the bottom MLI row).
+    vtkFieldData* fd = pd->GetFieldData();
+    auto* rgba = vtkUnsignedCharArray::SafeDownCast(fd->GetArray("TextureRGBA"));
+    auto* color = vtkFloatArray::SafeDownCast(fd->GetArray("TextureColor"));
+    auto* alpha = vtkFloatArray::SafeDownCast(fd->GetArray("TextureAlpha"));
+    auto* tdepth = vtkFloatArray::SafeDownCast(fd->GetArray("TextureDepth"));
+    auto* size = vtkIntArray::SafeDownCast(fd->GetArray("TextureSize"));
+    auto* tolerance = vtkDoubleArray::SafeDownCast(fd->GetArray("MeshTolerance"));
+    ASSERT_TRUE(rgba && color && alpha && tdepth && size && tolerance);
+    EXPECT_EQ(size->GetValue(0), W);
+    EXPECT_EQ(size->GetValue(1), H);
+    EXPECT_EQ(tolerance->GetValue(0), 0.5);
+    ASSERT_EQ(rgba->GetNumberOfTuples(), W * H);
+    ASSERT_EQ(rgba->GetNumberOfComponents(), 4);
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const vtkIdType t = static_cast<vtkIdType>(y) * W + x;
+        const std::size_t p = static_cast<std::size_t>(H - 1 - y) * W + x;
+        for (int c = 0; c < 4; ++c)
+          EXPECT_EQ(rgba->GetTypedComponent(t, c), std::lround(255.0 * layer.rgba[4 * p + c]));
+        EXPECT_EQ(color->GetTypedComponent(t, 2), layer.rgba[4 * p + 2]);
+        EXPECT_EQ(alpha->GetValue(t), layer.rgba[4 * p + 3]);
+        EXPECT_EQ(tdepth->GetValue(t), layer.depth[p]);
+      }
+  }
+}
+
+TEST(MLIWriter, AdaptiveLosslessRoundTripIsExact) {
+  TempDir dir;
+  const mli::MLI mli = planeAndRandomMLI(7, 10);
+  mli::writeMLI(dir / "in", mli, mli::MLIFormat::Lossless);
+  vtkNew<vtkMLIReader> reader;
+  reader->SetFileName((dir / "in").c_str());
+  reader->SetMeshMode(vtkMLIReader::MESH_ADAPTIVE);
+  vtkNew<vtkMLIWriter> writer;
+  writer->SetInputConnection(reader->GetOutputPort());
+  writer->SetFileName((dir / "out").c_str());
+  writer->SetFormatToLossless();
+  ASSERT_EQ(writer->Write(), 1);
+  expectSameMLI(mli::readMLI(dir / "out"), mli);
+}
+
 TEST(MLIReader, AbortLeavesAnEmptyOutput) {
   TempDir dir;
   mli::writeMLI(dir / "in", randomMLI(4, 4, 4, 6), mli::MLIFormat::Lossless);
@@ -383,6 +476,16 @@ protected:
 TEST_F(MLIWriterErrors, MissingPointArray) {
   layer(1)->GetPointData()->RemoveArray("Color");
   expectFailure({"out", "layer 1 (Layer01)", "\"Color\" is missing", "RGBA"});
+}
+
+TEST_F(MLIWriterErrors, AdaptiveLayerMissingTextureArray) {
+  vtkNew<vtkMLIReader> reader;
+  reader->SetFileName((dir_ / "in").c_str());
+  reader->SetMeshMode(vtkMLIReader::MESH_ADAPTIVE);
+  reader->Update();
+  collection_->DeepCopy(reader->GetOutput());
+  layer(1)->GetFieldData()->RemoveArray("TextureAlpha");
+  expectFailure({"layer 1 (Layer01)", "\"TextureAlpha\" is missing", "TextureDepth"});
 }
 
 TEST_F(MLIWriterErrors, WrongComponentCount) {

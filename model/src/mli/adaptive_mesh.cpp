@@ -1,0 +1,523 @@
+// Adaptive meshes of MLI layers: the quadtree, its leaves' triangulation and the vertex
+// registry (see mli/adaptive_mesh.h for the error measure and the rules).
+#include "simpli/model/mli/adaptive_mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "mli/adaptive_mesh_internal.h"
+#include "simpli/error.h"
+#include "simpli/model/scene/trajectory.h"
+
+namespace simpli::mli {
+
+namespace adaptive {
+
+SummedArea::SummedArea(int w, int h, const std::vector<std::uint8_t>& flags) : w_(w), h_(h) {
+  s_.assign(static_cast<std::size_t>(w + 1) * (h + 1), 0);
+  for (int y = 0; y < h; ++y) {
+    std::int64_t row = 0;
+    for (int x = 0; x < w; ++x) {
+      row += flags[static_cast<std::size_t>(y) * w + x];
+      at(x + 1, y + 1) = at(x + 1, y) + row;
+    }
+  }
+}
+
+std::int64_t SummedArea::sum(int x0, int y0, int x1, int y1) const {
+  return get(x1, y1) - get(x0, y1) - get(x1, y0) + get(x0, y0);
+}
+
+LayerGrid::LayerGrid(const MLI& mli, int k, const AdaptiveMeshOptions& options)
+    : W(mli.width()), H(mli.height()) {
+  const MLILayer& layer = mli.layers[static_cast<std::size_t>(k)];
+  const std::size_t n = mli.texels();
+  pixelsPerDisparity = pixelsPerInverseDepth(mli, options);
+  // Infinite when B f_px = 0 cannot happen (validated camera, B > 0); tolerance 0 stays 0.
+  disparityTolerance = options.tolerancePixels / pixelsPerDisparity;
+  textureTolerance = options.tolerancePixels;
+  disparity.resize(n);
+  visible.resize(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    disparity[p] = 1.0 / static_cast<double>(layer.depth[p]);
+    visible[p] = layer.rgba[4 * p + 3] >= options.alphaThreshold ? 1 : 0;
+  }
+  markDiscontinuities(options.discontinuityPixels);
+  std::vector<std::uint8_t> quadVisible(static_cast<std::size_t>(W - 1) * (H - 1));
+  std::vector<std::uint8_t> quadCut(quadVisible.size());
+  for (int y = 0; y + 1 < H; ++y)
+    for (int x = 0; x + 1 < W; ++x) {
+      const std::size_t q = static_cast<std::size_t>(y) * (W - 1) + x;
+      quadVisible[q] = visible[index(x, y)] | visible[index(x + 1, y)] | visible[index(x, y + 1)] |
+                       visible[index(x + 1, y + 1)];
+      quadCut[q] =
+          cutH[hIndex(x, y)] | cutH[hIndex(x, y + 1)] | cutV[index(x, y)] | cutV[index(x + 1, y)];
+    }
+  visibleQuads = SummedArea(W - 1, H - 1, quadVisible);
+  cutQuads = SummedArea(W - 1, H - 1, quadCut);
+}
+
+void LayerGrid::markDiscontinuities(double discontinuityPixels) {
+  cutH.assign(static_cast<std::size_t>(W - 1) * H, 0);
+  cutV.assign(static_cast<std::size_t>(W) * H, 0); // the last row stays 0
+  if (std::isinf(discontinuityPixels))
+    return;
+  const double maxJump = discontinuityPixels / pixelsPerDisparity;
+  auto cut = [&](std::size_t a, std::size_t b) -> std::uint8_t {
+    return (visible[a] || visible[b]) && std::abs(disparity[a] - disparity[b]) > maxJump;
+  };
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      if (x + 1 < W)
+        cutH[hIndex(x, y)] = cut(index(x, y), index(x + 1, y));
+      if (y + 1 < H)
+        cutV[index(x, y)] = cut(index(x, y), index(x, y + 1));
+    }
+}
+
+double LayerGrid::twoTriangleDisparity(const Cell& c, double x, double y) const {
+  const double s = (x - c.x0) / (c.x1 - c.x0), t = (y - c.y0) / (c.y1 - c.y0);
+  const double tl = disparity[index(c.x0, c.y0)], tr = disparity[index(c.x1, c.y0)];
+  const double bl = disparity[index(c.x0, c.y1)], br = disparity[index(c.x1, c.y1)];
+  // Diagonal top-left to bottom-right: (TL, BL, BR) below it, (TL, BR, TR) above it.
+  return t >= s ? tl + t * (bl - tl) + s * (br - bl) : tl + s * (tr - tl) + t * (br - tr);
+}
+
+bool LayerGrid::twoTrianglesFit(const Cell& c) const {
+  const double tl = 1.0 / disparity[index(c.x0, c.y0)], tr = 1.0 / disparity[index(c.x1, c.y0)];
+  const double bl = 1.0 / disparity[index(c.x0, c.y1)], br = 1.0 / disparity[index(c.x1, c.y1)];
+  const double diagonal = std::hypot(c.x1 - c.x0, c.y1 - c.y0);
+  for (const double third : {bl, tr}) { // (TL, BL, BR) and (TL, BR, TR)
+    const double zMin = std::min({tl, br, third}), zMax = std::max({tl, br, third});
+    if (textureSwimBound(diagonal, zMin, zMax) > textureTolerance)
+      return false;
+  }
+  for (int y = c.y0; y <= c.y1; ++y)
+    for (int x = c.x0; x <= c.x1; ++x) {
+      const std::size_t p = index(x, y);
+      if (visible[p] && std::abs(disparity[p] - twoTriangleDisparity(c, x, y)) > disparityTolerance)
+        return false;
+    }
+  return true;
+}
+
+} // namespace adaptive
+
+namespace {
+
+using adaptive::Cell;
+using adaptive::LayerGrid;
+
+std::vector<Cell> children(const Cell& c) {
+  const int w = c.x1 - c.x0, h = c.y1 - c.y0;
+  const int xm = w >= 2 ? c.x0 + w / 2 : c.x1, ym = h >= 2 ? c.y0 + h / 2 : c.y1;
+  std::vector<Cell> out;
+  for (const auto& [x0, x1] : {std::pair{c.x0, xm}, std::pair{xm, c.x1}})
+    for (const auto& [y0, y1] : {std::pair{c.y0, ym}, std::pair{ym, c.y1}})
+      if (x1 > x0 && y1 > y0)
+        out.push_back({x0, y0, x1, y1, false});
+  return out;
+}
+
+// Appends the leaves of cell `c` (top-down refinement, see the header's rules).
+void refine(const LayerGrid& g, const Cell& c, int mixedCellSize, std::vector<Cell>& leaves) {
+  const int w = c.x1 - c.x0, h = c.y1 - c.y0;
+  const std::int64_t visible = g.visibleQuads.sum(c.x0, c.y0, c.x1, c.y1);
+  if (visible == 0)
+    return; // nothing to see: no triangles
+  const bool cut = g.cutQuads.sum(c.x0, c.y0, c.x1, c.y1) > 0;
+  if (w == 1 && h == 1) {
+    leaves.push_back({c.x0, c.y0, c.x1, c.y1, cut});
+    return;
+  }
+  const bool mixed = visible < static_cast<std::int64_t>(w) * h;
+  if (!cut && !(mixed && std::max(w, h) > mixedCellSize) && g.twoTrianglesFit(c)) {
+    leaves.push_back(c);
+    return;
+  }
+  for (const Cell& child : children(c))
+    refine(g, child, mixedCellSize, leaves);
+}
+
+// Vertices of the mesh being built. Positions are on the doubled grid (X, Y) = (2x, 2y), so
+// half-grid points of cut quads and of thin fan centres are integers too. Shared positions
+// (cell corners, midpoints of continuous edges) have one vertex; the two sides of a cut edge
+// and the centres of a cut quad's sides have their own.
+class VertexRegistry {
+public:
+  VertexRegistry(const MLI& mli, AdaptiveLayerMesh& mesh)
+      : mli_(mli), mesh_(mesh), W2_(2 * mli.width() - 1),
+        shared_(static_cast<std::size_t>(W2_) * (2 * mli.height() - 1), -1) {}
+
+  std::int32_t shared(int X, int Y, double disparity) {
+    std::int32_t& id = shared_[static_cast<std::size_t>(Y) * W2_ + X];
+    if (id < 0)
+      id = add(X, Y, disparity);
+    return id;
+  }
+  // The vertex of cut-edge midpoint (X, Y) on the side of the corner `side` (a texel index).
+  std::int32_t side(int X, int Y, std::size_t side, double disparity) {
+    const std::int64_t key =
+        (static_cast<std::int64_t>(Y) * W2_ + X) * static_cast<std::int64_t>(mli_.texels()) +
+        static_cast<std::int64_t>(side);
+    auto [it, inserted] = sides_.try_emplace(key, -1);
+    if (inserted)
+      it->second = add(X, Y, disparity);
+    return it->second;
+  }
+  std::int32_t unique(int X, int Y, double disparity) { return add(X, Y, disparity); }
+
+private:
+  std::int32_t add(int X, int Y, double disparity) {
+    const scene::Camera& cam = mli_.camera;
+    const double x = 0.5 * X, y = 0.5 * Y, d = 1.0 / disparity;
+    const double u = x / (cam.width - 1), v = y / (cam.height - 1);
+    const Eigen::Vector3d xw = cam.backproject({u, v}, d);
+    mesh_.points.insert(mesh_.points.end(), {static_cast<float>(xw.x()), static_cast<float>(xw.y()),
+                                             static_cast<float>(xw.z())});
+    mesh_.grid.insert(mesh_.grid.end(), {static_cast<float>(x), static_cast<float>(y)});
+    mesh_.depth.push_back(static_cast<float>(d));
+    if (mesh_.depth.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+      fail("adaptive mesh: more than 2^31 vertices");
+    return static_cast<std::int32_t>(mesh_.depth.size() - 1);
+  }
+
+  const MLI& mli_;
+  AdaptiveLayerMesh& mesh_;
+  int W2_;
+  std::vector<std::int32_t> shared_;
+  std::unordered_map<std::int64_t, std::int32_t> sides_;
+};
+
+// A point of a leaf's boundary polygon or fan: doubled-grid position and 1/d.
+struct PolygonPoint {
+  int X, Y;
+  double disparity;
+};
+
+// The positions (doubled grid) that lie on some leaf's boundary: cell corners and the
+// midpoints of a cut quad's continuous edges.
+std::vector<std::uint8_t> boundaryMarks(const LayerGrid& g, const std::vector<Cell>& leaves) {
+  const int W2 = 2 * g.W - 1;
+  std::vector<std::uint8_t> mark(static_cast<std::size_t>(W2) * (2 * g.H - 1), 0);
+  auto set = [&](int X, int Y) { mark[static_cast<std::size_t>(Y) * W2 + X] = 1; };
+  for (const Cell& c : leaves) {
+    set(2 * c.x0, 2 * c.y0);
+    set(2 * c.x1, 2 * c.y0);
+    set(2 * c.x0, 2 * c.y1);
+    set(2 * c.x1, 2 * c.y1);
+    if (!c.cut)
+      continue;
+    if (!g.cutV[g.index(c.x0, c.y0)])
+      set(2 * c.x0, 2 * c.y0 + 1);
+    if (!g.cutV[g.index(c.x1, c.y0)])
+      set(2 * c.x1, 2 * c.y0 + 1);
+    if (!g.cutH[g.hIndex(c.x0, c.y0)])
+      set(2 * c.x0 + 1, 2 * c.y0);
+    if (!g.cutH[g.hIndex(c.x0, c.y1)])
+      set(2 * c.x0 + 1, 2 * c.y1);
+  }
+  return mark;
+}
+
+// 1/d at doubled-grid position (X, Y) on a leaf's boundary: a texel's own value, or (for the
+// midpoint of a texel edge) the mean of its two ends, which lies on the straight 3-D edge.
+double boundaryDisparity(const LayerGrid& g, int X, int Y) {
+  const int x0 = X / 2, y0 = Y / 2, x1 = (X + 1) / 2, y1 = (Y + 1) / 2;
+  return 0.5 * (g.disparity[g.index(x0, y0)] + g.disparity[g.index(x1, y1)]);
+}
+
+// The boundary polygon of leaf `c`, wound top-left -> bottom-left -> bottom-right -> top-right
+// (the per-texel triangles' winding): its corners and every marked position on its edges.
+std::vector<PolygonPoint> boundaryPolygon(const LayerGrid& g, const Cell& c,
+                                          const std::vector<std::uint8_t>& mark) {
+  const int W2 = 2 * g.W - 1;
+  const int X0 = 2 * c.x0, X1 = 2 * c.x1, Y0 = 2 * c.y0, Y1 = 2 * c.y1;
+  std::vector<PolygonPoint> polygon;
+  auto visit = [&](int X, int Y) {
+    if (mark[static_cast<std::size_t>(Y) * W2 + X])
+      polygon.push_back({X, Y, boundaryDisparity(g, X, Y)});
+  };
+  for (int Y = Y0; Y < Y1; ++Y)
+    visit(X0, Y);
+  for (int X = X0; X < X1; ++X)
+    visit(X, Y1);
+  for (int Y = Y1; Y > Y0; --Y)
+    visit(X1, Y);
+  for (int X = X1; X > X0; --X)
+    visit(X, Y0);
+  return polygon;
+}
+
+// The centre of a fan over leaf `c`: the grid point at the split position when the leaf is at
+// least 2 x 2 quads, else the half-grid point in its middle. Its 1/d is the texel's when that
+// texel is visible, else the leaf's two-triangle surface there (a transparent texel's depth is
+// free and may be far off).
+PolygonPoint fanCentre(const LayerGrid& g, const Cell& c) {
+  const int w = c.x1 - c.x0, h = c.y1 - c.y0;
+  const int X = w >= 2 ? 2 * (c.x0 + w / 2) : c.x0 + c.x1;
+  const int Y = h >= 2 ? 2 * (c.y0 + h / 2) : c.y0 + c.y1;
+  if (X % 2 == 0 && Y % 2 == 0 && g.visible[g.index(X / 2, Y / 2)])
+    return {X, Y, g.disparity[g.index(X / 2, Y / 2)]};
+  return {X, Y, g.twoTriangleDisparity(c, 0.5 * X, 0.5 * Y)};
+}
+
+using Triangle = std::array<PolygonPoint, 3>;
+
+// The triangles of a continuous leaf: two when its polygon is its four corners, else a fan.
+std::vector<Triangle> leafTriangles(const LayerGrid& g, const Cell& c,
+                                    const std::vector<PolygonPoint>& polygon) {
+  if (polygon.size() == 4) {
+    const PolygonPoint &tl = polygon[0], &bl = polygon[1], &br = polygon[2], &tr = polygon[3];
+    return {Triangle{tl, bl, br}, Triangle{tl, br, tr}};
+  }
+  const PolygonPoint centre = fanCentre(g, c);
+  std::vector<Triangle> fan;
+  for (std::size_t k = 0; k < polygon.size(); ++k)
+    fan.push_back({centre, polygon[k], polygon[(k + 1) % polygon.size()]});
+  return fan;
+}
+
+// Twice the signed area of (a, b, p) on the doubled grid (positive inside a triangle wound as
+// the mesh's triangles: y points down, so this winding is clockwise on screen).
+std::int64_t edgeFunction(const PolygonPoint& a, const PolygonPoint& b, std::int64_t X,
+                          std::int64_t Y) {
+  return (static_cast<std::int64_t>(b.Y) - a.Y) * (X - a.X) -
+         (static_cast<std::int64_t>(b.X) - a.X) * (Y - a.Y);
+}
+
+// Largest |1/d - surface| over the visible texels inside triangle t (closed).
+double triangleError(const LayerGrid& g, const Triangle& t) {
+  const std::int64_t area = edgeFunction(t[0], t[1], t[2].X, t[2].Y);
+  if (area == 0)
+    return 0.0;
+  const int x0 = (std::min({t[0].X, t[1].X, t[2].X}) + 1) / 2;
+  const int x1 = std::max({t[0].X, t[1].X, t[2].X}) / 2;
+  const int y0 = (std::min({t[0].Y, t[1].Y, t[2].Y}) + 1) / 2;
+  const int y1 = std::max({t[0].Y, t[1].Y, t[2].Y}) / 2;
+  double worst = 0.0;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const std::size_t p = g.index(x, y);
+      if (!g.visible[p])
+        continue;
+      const std::int64_t b0 = edgeFunction(t[1], t[2], 2 * x, 2 * y);
+      const std::int64_t b1 = edgeFunction(t[2], t[0], 2 * x, 2 * y);
+      const std::int64_t b2 = edgeFunction(t[0], t[1], 2 * x, 2 * y);
+      const bool inside =
+          area > 0 ? (b0 >= 0 && b1 >= 0 && b2 >= 0) : (b0 <= 0 && b1 <= 0 && b2 <= 0);
+      if (!inside)
+        continue;
+      const double surface =
+          (static_cast<double>(b0) * t[0].disparity + static_cast<double>(b1) * t[1].disparity +
+           static_cast<double>(b2) * t[2].disparity) /
+          static_cast<double>(area);
+      worst = std::max(worst, std::abs(g.disparity[p] - surface));
+    }
+  return worst;
+}
+
+// textureSwimBound of triangle t.
+double triangleSwim(const Triangle& t) {
+  const int dx = std::max({t[0].X, t[1].X, t[2].X}) - std::min({t[0].X, t[1].X, t[2].X});
+  const int dy = std::max({t[0].Y, t[1].Y, t[2].Y}) - std::min({t[0].Y, t[1].Y, t[2].Y});
+  const double dMin = std::min({t[0].disparity, t[1].disparity, t[2].disparity});
+  const double dMax = std::max({t[0].disparity, t[1].disparity, t[2].disparity});
+  return adaptive::textureSwimBound(0.5 * std::hypot(dx, dy), 1.0 / dMax, 1.0 / dMin);
+}
+
+// True when some visible texel quad overlaps the interior of triangle t (separating axes on
+// the doubled grid: the quad's box against the triangle's bounding box and its three edges).
+bool coversVisibleQuad(const LayerGrid& g, const Triangle& t) {
+  const int qx0 = std::min({t[0].X, t[1].X, t[2].X}) / 2;
+  const int qx1 = (std::max({t[0].X, t[1].X, t[2].X}) + 1) / 2; // exclusive quad bounds
+  const int qy0 = std::min({t[0].Y, t[1].Y, t[2].Y}) / 2;
+  const int qy1 = (std::max({t[0].Y, t[1].Y, t[2].Y}) + 1) / 2;
+  if (g.visibleQuads.sum(qx0, qy0, qx1, qy1) == 0)
+    return false;
+  const std::int64_t area = edgeFunction(t[0], t[1], t[2].X, t[2].Y);
+  if (area == 0)
+    return false;
+  const int sign = area > 0 ? 1 : -1;
+  for (int qy = qy0; qy < qy1; ++qy)
+    for (int qx = qx0; qx < qx1; ++qx) {
+      if (g.visibleQuads.sum(qx, qy, qx + 1, qy + 1) == 0)
+        continue;
+      bool separated = false;
+      for (int e = 0; e < 3 && !separated; ++e) {
+        const PolygonPoint &a = t[e], &b = t[(e + 1) % 3];
+        std::int64_t best = std::numeric_limits<std::int64_t>::min();
+        for (int cy = 0; cy <= 1; ++cy)
+          for (int cx = 0; cx <= 1; ++cx)
+            best = std::max(best, sign * edgeFunction(a, b, 2 * (qx + cx), 2 * (qy + cy)));
+        separated = best <= 0; // the whole quad is on the outer side of (or on) this edge
+      }
+      if (!separated)
+        return true;
+    }
+  return false;
+}
+
+// Emits the eight quarter triangles of cut quad `c` (see the header).
+void emitCutQuad(const LayerGrid& g, const Cell& c, VertexRegistry& vertices,
+                 AdaptiveLayerMesh& mesh) {
+  // Corners in winding order TL, BL, BR, TR; edge e joins corner e and corner e + 1.
+  const int cx[4] = {c.x0, c.x0, c.x1, c.x1}, cy[4] = {c.y0, c.y1, c.y1, c.y0};
+  const bool edgeCut[4] = {g.cutV[g.index(c.x0, c.y0)] != 0, g.cutH[g.hIndex(c.x0, c.y1)] != 0,
+                           g.cutV[g.index(c.x1, c.y0)] != 0, g.cutH[g.hIndex(c.x0, c.y0)] != 0};
+  std::size_t texel[4];
+  double disparity[4];
+  std::int32_t corner[4];
+  for (int k = 0; k < 4; ++k) {
+    texel[k] = g.index(cx[k], cy[k]);
+    disparity[k] = g.disparity[texel[k]];
+    corner[k] = vertices.shared(2 * cx[k], 2 * cy[k], disparity[k]);
+  }
+  // Sides: corners joined along the cycle by continuous edges.
+  int sideOf[4] = {0, 1, 2, 3};
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int e = 0; e < 4; ++e) {
+      const int a = e, b = (e + 1) % 4;
+      if (!edgeCut[e] && sideOf[a] != sideOf[b]) {
+        sideOf[a] = sideOf[b] = std::min(sideOf[a], sideOf[b]);
+        changed = true;
+      }
+    }
+  }
+  std::int32_t centre[4] = {-1, -1, -1, -1};
+  for (int s = 0; s < 4; ++s) {
+    double sum = 0;
+    int n = 0;
+    for (int k = 0; k < 4; ++k)
+      if (sideOf[k] == s) {
+        sum += disparity[k];
+        ++n;
+      }
+    if (n > 0)
+      centre[s] = vertices.unique(c.x0 + c.x1, c.y0 + c.y1, sum / n);
+  }
+  // Midpoint of edge e as seen from corner k (one of its ends).
+  auto midpoint = [&](int e, int k) {
+    const int a = e, b = (e + 1) % 4;
+    const int X = cx[a] + cx[b], Y = cy[a] + cy[b];
+    if (!edgeCut[e])
+      return vertices.shared(X, Y, 0.5 * (disparity[a] + disparity[b]));
+    return vertices.side(X, Y, texel[k], disparity[k]);
+  };
+  for (int k = 0; k < 4; ++k) {
+    const std::int32_t after = midpoint(k, k), before = midpoint((k + 3) % 4, k);
+    const std::int32_t mid = centre[sideOf[k]];
+    mesh.triangles.insert(mesh.triangles.end(), {corner[k], after, mid, corner[k], mid, before});
+  }
+}
+
+void emitLeaf(const LayerGrid& g, const Cell& c, const std::vector<Triangle>& triangles,
+              VertexRegistry& vertices, AdaptiveLayerMesh& mesh) {
+  const bool allVisible = g.visibleQuads.sum(c.x0, c.y0, c.x1, c.y1) ==
+                          static_cast<std::int64_t>(c.x1 - c.x0) * (c.y1 - c.y0);
+  auto id = [&](const PolygonPoint& p) {
+    // Fan centres are inside the leaf, never on another leaf: shared() is still right (each
+    // position is used by one leaf only), and keeps one code path.
+    return vertices.shared(p.X, p.Y, p.disparity);
+  };
+  for (const Triangle& t : triangles)
+    if (allVisible || coversVisibleQuad(g, t))
+      mesh.triangles.insert(mesh.triangles.end(), {id(t[0]), id(t[1]), id(t[2])});
+}
+
+} // namespace
+
+void validateAdaptiveMeshOptions(const AdaptiveMeshOptions& o) {
+  if (!(o.tolerancePixels >= 0) || !std::isfinite(o.tolerancePixels))
+    fail("adaptive mesh: tolerancePixels = ", o.tolerancePixels, ", expected a finite value >= 0");
+  if (!(o.cameraOffset >= 0) || !std::isfinite(o.cameraOffset))
+    fail("adaptive mesh: cameraOffset = ", o.cameraOffset,
+         ", expected a finite value >= 0 (0 = default)");
+  if (!(o.discontinuityPixels > 0))
+    fail("adaptive mesh: discontinuityPixels = ", o.discontinuityPixels,
+         ", expected a value > 0 (infinity: never cut)");
+  if (!(o.alphaThreshold >= 0 && o.alphaThreshold <= 1))
+    fail("adaptive mesh: alphaThreshold = ", o.alphaThreshold, ", expected a value in [0, 1]");
+  if (o.mixedCellSize < 1)
+    fail("adaptive mesh: mixedCellSize = ", o.mixedCellSize, ", expected >= 1");
+}
+
+double defaultCameraOffset(const MLI& mli) {
+  double near = std::numeric_limits<double>::infinity(), far = 0.0;
+  for (const MLILayer& layer : mli.layers)
+    for (float d : layer.depth) {
+      near = std::min(near, static_cast<double>(d));
+      far = std::max(far, static_cast<double>(d));
+    }
+  return 0.05 * scene::trajectoryFocusDepth(near, far);
+}
+
+double pixelsPerInverseDepth(const MLI& mli, const AdaptiveMeshOptions& options) {
+  const double offset = options.cameraOffset > 0 ? options.cameraOffset : defaultCameraOffset(mli);
+  const scene::Camera& c = mli.camera;
+  return offset * std::max(c.fx * c.width, c.fy * c.height);
+}
+
+AdaptiveLayerMesh buildAdaptiveLayerMesh(const MLI& mli, int k,
+                                         const AdaptiveMeshOptions& options) {
+  validateMLI(mli, "buildAdaptiveLayerMesh");
+  validateAdaptiveMeshOptions(options);
+  if (k < 0 || k >= mli.numLayers())
+    fail("buildAdaptiveLayerMesh: layer index ", k, " is out of range [0, ", mli.numLayers(), ")");
+  const LayerGrid g(mli, k, options);
+
+  std::vector<Cell> leaves;
+  refine(g, {0, 0, g.W - 1, g.H - 1, false}, options.mixedCellSize, leaves);
+  // Fans (leaves whose neighbours put vertices on their edges) are checked against the
+  // tolerance; those that miss it are split, which may turn neighbours into fans: repeat.
+  AdaptiveLayerMesh mesh;
+  std::vector<std::vector<Triangle>> triangles;
+  for (bool settled = false; !settled;) {
+    ++mesh.passes;
+    settled = true;
+    const std::vector<std::uint8_t> mark = boundaryMarks(g, leaves);
+    std::vector<Cell> next;
+    triangles.clear();
+    for (const Cell& c : leaves) {
+      if (c.cut) {
+        next.push_back(c);
+        triangles.emplace_back();
+        continue;
+      }
+      std::vector<Triangle> t = leafTriangles(g, c, boundaryPolygon(g, c, mark));
+      const bool single = c.x1 - c.x0 == 1 && c.y1 - c.y0 == 1;
+      bool fits = true;
+      if (t.size() > 2 && !single)
+        for (const Triangle& tri : t)
+          fits = fits && triangleError(g, tri) <= g.disparityTolerance &&
+                 triangleSwim(tri) <= g.textureTolerance;
+      if (fits) {
+        next.push_back(c);
+        triangles.push_back(std::move(t));
+        continue;
+      }
+      settled = false;
+      for (const Cell& child : children(c))
+        refine(g, child, options.mixedCellSize, next);
+    }
+    leaves = std::move(next);
+  }
+
+  VertexRegistry vertices(mli, mesh);
+  for (std::size_t l = 0; l < leaves.size(); ++l) {
+    if (leaves[l].cut) {
+      emitCutQuad(g, leaves[l], vertices, mesh);
+      ++mesh.cutQuads;
+    } else {
+      emitLeaf(g, leaves[l], triangles[l], vertices, mesh);
+    }
+  }
+  mesh.leaves = leaves.size();
+  return mesh;
+}
+
+} // namespace simpli::mli
