@@ -26,6 +26,8 @@ struct ConvertOptions {
   std::string input, output;
   std::string format = "auto";
   std::string depthDecoding = "viewer";
+  std::string mesh = "adaptive"; ///< GLB export: the layers' meshes
+  double meshTolerance = mli::AdaptiveMeshOptions{}.tolerancePixels;
   bool force = false;
 };
 
@@ -71,7 +73,15 @@ void exportGlb(const ConvertOptions& o, const mli::MLIReadOptions& readOptions) 
     fail("output ", o.output, ": its folder ", parent, " does not exist");
   io::checkOutputLocation(parent, "output folder");
   const mli::MLI mli = mli::readMLI(o.input, readOptions);
-  const mli::GlbSummary s = mli::writeGlb(mli, o.output);
+  mli::GlbOptions glbOptions;
+  if (o.mesh == "adaptive") {
+    mli::AdaptiveMeshOptions a;
+    a.tolerancePixels = o.meshTolerance;
+    glbOptions.layerMesh = mli::adaptiveGlbMesh(a);
+  } else if (o.mesh != "per-texel") {
+    fail("--mesh: unknown value '", o.mesh, "' (expected adaptive or per-texel)");
+  }
+  const mli::GlbSummary s = mli::writeGlb(mli, o.output, glbOptions);
   std::printf("exported %s (%d layers, %d x %d) -> %s (glTF binary: %d layers with triangles, "
               "%zu vertices, %zu triangles, %.1f MB)\n",
               o.input.c_str(), mli.numLayers(), mli.width(), mli.height(), o.output.c_str(),
@@ -147,6 +157,14 @@ void addConvertCommand(CLI::App& app) {
   cmd->add_option("--depth-decoding", opts->depthDecoding,
                   "How 8-bit depths of a JPEG input are decoded: viewer (lo + q (hi - lo)/255) "
                   "or bin-centre (lo + (q + 0.5)(hi - lo)/256)")
+      ->capture_default_str();
+  cmd->add_option("--mesh", opts->mesh,
+                  "GLB export: adaptive (density follows the depth, mli/adaptive_mesh.h) or "
+                  "per-texel (one vertex per texel, as the rasterizer draws it)")
+      ->capture_default_str();
+  cmd->add_option("--mesh-tolerance", opts->meshTolerance,
+                  "GLB export, adaptive mesh: largest reprojection error in pixels for a camera "
+                  "moved off the reference one")
       ->capture_default_str();
   cmd->add_flag("--force", opts->force,
                 "Replace an existing MLI folder at the output (only one simpli wrote, holding "

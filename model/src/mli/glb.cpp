@@ -157,6 +157,27 @@ void appendChunk(std::vector<std::uint8_t>& out, std::uint32_t type,
 
 } // namespace
 
+std::function<MLIMesh(const MLI&, int, const MLIMeshOptions&)>
+adaptiveGlbMesh(const AdaptiveMeshOptions& options) {
+  validateAdaptiveMeshOptions(options);
+  return [options](const MLI& mli, int k, const MLIMeshOptions& meshOptions) {
+    AdaptiveMeshOptions o = options;
+    o.alphaThreshold = std::max(o.alphaThreshold, meshOptions.dropAlphaBelow);
+    const AdaptiveLayerMesh a = buildAdaptiveLayerMesh(mli, k, o);
+    MLIMesh m;
+    m.points = a.points;
+    m.depth = a.depth;
+    m.triangles = a.triangles;
+    m.uv.resize(a.grid.size());
+    for (std::size_t p = 0; p < a.grid.size(); p += 2) { // grid (x, y) in texels -> corner-grid uv
+      m.uv[p] = a.grid[p] / float(mli.width() - 1);
+      m.uv[p + 1] = a.grid[p + 1] / float(mli.height() - 1);
+    }
+    m.rgba.assign(4 * a.depth.size(), 0.0f); // not used: the texture holds the colours
+    return m;
+  };
+}
+
 std::vector<std::uint8_t> encodeGlb(const MLI& mli, const GlbOptions& options,
                                     GlbSummary* summaryOut) {
   validateMLI(mli, "GLB export");

@@ -181,6 +181,40 @@ TEST(Glb, UsesTheGivenLayerMeshAndWritesAtomically) {
   EXPECT_EQ(g.meshes.size(), 1u);
 }
 
+// Constant-depth layers through the adaptive mesh: a handful of triangles instead of one pair
+// per texel quad, every vertex still where the reference camera sees its texel, with uv at that
+// texel's centre.
+TEST(Glb, AdaptiveMeshesOfPlanesAreSmallAndExact) {
+  const int W = 40, H = 24;
+  const mli::MLI m = halfOpaqueMLI(3, W, H);
+  mli::GlbOptions o;
+  o.layerMesh = mli::adaptiveGlbMesh({});
+  mli::GlbSummary adaptive, perTexel;
+  const tinygltf::Model g = parse(mli::encodeGlb(m, o, &adaptive));
+  mli::encodeGlb(m, {}, &perTexel);
+  EXPECT_EQ(adaptive.layers, 2);
+  EXPECT_LT(adaptive.triangles * 20, perTexel.triangles)
+      << adaptive.triangles << " vs " << perTexel.triangles;
+  for (const tinygltf::Mesh& mesh : g.meshes) {
+    const tinygltf::Primitive& prim = mesh.primitives.at(0);
+    const std::vector<float> pos = elements<float>(g, prim.attributes.at("POSITION"));
+    const std::vector<float> uv = elements<float>(g, prim.attributes.at("TEXCOORD_0"));
+    ASSERT_EQ(pos.size() / 3, uv.size() / 2);
+    const int k = mesh.name == "layer 00" ? 0 : 1;
+    const double d = m.layers[size_t(k)].depth[0];
+    for (size_t p = 0; p < uv.size() / 2; ++p) {
+      // uv -> grid (x, y) -> the back-projection at the layer depth.
+      const double x = uv[2 * p] * W - 0.5, y = uv[2 * p + 1] * H - 0.5;
+      const double u = x / (W - 1), v = y / (H - 1);
+      const Eigen::Vector3d c(d * (u - m.camera.cx) / m.camera.fx,
+                              d * (v - m.camera.cy) / m.camera.fy, d);
+      const Eigen::Vector3d w = m.camera.R.transpose() * (c - m.camera.t);
+      for (int a = 0; a < 3; ++a)
+        EXPECT_NEAR(pos[3 * p + size_t(a)], w[a], 1e-4) << mesh.name << " vertex " << p;
+    }
+  }
+}
+
 TEST(Glb, RejectsAnInvalidMLIAndNamesTheValue) {
   mli::MLI m = halfOpaqueMLI(2, 10, 6);
   m.layers[1].depth[7] = -1.0f;

@@ -16,6 +16,7 @@
 // Draw order. glTF does not define the order in which viewers draw blended primitives; most
 // sort them by distance, which for nested layers is back to front. The nodes are also in
 // back-to-front order for viewers that draw in file order.
+#include "simpli/model/mli/adaptive_mesh.h"
 #include "simpli/model/mli/mesh.h"
 #include "simpli/model/mli/mli.h"
 
@@ -34,6 +35,11 @@ struct GlbOptions {
   /// one vertex per texel. The texture is always the layer's full W x H RGBA.
   std::function<MLIMesh(const MLI& mli, int k, const MLIMeshOptions& options)> layerMesh;
 };
+
+/// GlbOptions::layerMesh for the adaptive display mesh (mli/adaptive_mesh.h) with `options`
+/// (its alpha threshold replaced by the GLB's dropAlphaBelow when that is larger).
+std::function<MLIMesh(const MLI&, int, const MLIMeshOptions&)>
+adaptiveGlbMesh(const AdaptiveMeshOptions& options);
 
 /// What encodeGlb put in the file, for reports.
 struct GlbSummary {
