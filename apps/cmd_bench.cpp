@@ -237,6 +237,7 @@ void runOps(int repeat, bool quick, const std::string& selector) {
 } // namespace
 
 void addBenchInferCommand(CLI::App& bench); // cmd_bench_infer.cpp
+void addBenchTrainCommand(CLI::App& bench); // cmd_bench_train.cpp
 
 void addBenchCommand(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Measure speed against reference implementations");
@@ -254,6 +255,7 @@ void addBenchCommand(CLI::App& app) {
                   "else first CPU)");
   ops->callback([repeat, quick, selector] { runOps(*repeat, *quick, *selector); });
   addBenchInferCommand(*bench);
+  addBenchTrainCommand(*bench);
 }
 
 } // namespace simpli::app

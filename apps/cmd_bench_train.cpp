@@ -1,0 +1,153 @@
+// `simpli bench train`: the time of one training step (issue 10: the step is what a CPU training
+// budget buys). Runs --warmup untimed steps (PoCL compiles kernels on first use), then --steps
+// timed steps of a real run (the config's data, sampler, losses and optimizer) in a temporary
+// run folder, printing ms/step (mean +- std, min), and then one more step with the profiler on
+// (every device call finished and timed; slower, so not part of the mean) as a breakdown by
+// kernel and by engine area. Measures, never asserts; the load average is printed beside the
+// times because the machine may be shared.
+#include <CLI/CLI.hpp>
+
+#include "simpli/error.h"
+#include "simpli/model/training/trainer.h"
+#include "simpli/ocl/device.h"
+#include "simpli/ocl/profiler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace simpli::app {
+
+namespace {
+
+struct BenchTrainOptions {
+  std::string config = "tiny-world";
+  std::string data = "synthetic:0";
+  std::string size;
+  int steps = 5, warmup = 1;
+  std::string device;
+};
+
+std::string loadAverage() {
+  std::ifstream f("/proc/loadavg");
+  std::string one;
+  return f >> one ? one : std::string("?");
+}
+
+// A fresh folder under the system temporary folder, removed with its contents at the end.
+class TempRun {
+public:
+  TempRun() {
+    std::random_device rd;
+    path_ = std::filesystem::temp_directory_path() /
+            ("simpli-bench-train-" + std::to_string(rd()) + std::to_string(rd()));
+  }
+  ~TempRun() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  std::string str() const { return path_.string(); }
+
+private:
+  std::filesystem::path path_;
+};
+
+// "attention.attention_backward_key" -> "attention"; "clblast.Gemm NT ..." -> "gemm (CLBlast)".
+std::string area(const std::string& kernel) {
+  const std::string program = kernel.substr(0, kernel.find('.'));
+  if (program == "clblast")
+    return "gemm (CLBlast)";
+  if (program.rfind("gemm", 0) == 0)
+    return "gemm (own kernels)";
+  return program;
+}
+
+void runBenchTrain(const BenchTrainOptions& o) {
+  if (o.steps < 1)
+    fail("--steps ", o.steps, ": must be >= 1");
+  if (o.warmup < 0)
+    fail("--warmup ", o.warmup, ": must be >= 0");
+  if (!o.device.empty()) {
+    const auto [p, d] = ocl::Device::parseSelector(o.device, "--device");
+    ocl::Device::select(p, d);
+  }
+  const training::TrainingConfig config = training::resolveTrainingConfig(o.config);
+  TempRun run;
+  training::TrainerOptions t;
+  t.data = o.data;
+  t.runDir = run.str();
+  t.checkpointEvery = 1 << 30; // no checkpoints: only steps are timed
+  t.dataOptions.configSource = "training config '" + o.config + "'";
+  if (!o.size.empty())
+    training::parseWidthHeight(o.size, "--size", t.dataOptions.width, t.dataOptions.height);
+  training::Trainer trainer(&config, t);
+  const ocl::DeviceInfo& dev = ocl::Device::current().info();
+  std::printf("simpli bench train: config %s (%s), data %s, device %s; load average %s\n",
+              o.config.c_str(), config.network.name.c_str(), o.data.c_str(), dev.deviceName.c_str(),
+              loadAverage().c_str());
+  for (int i = 0; i < o.warmup; ++i) {
+    const training::StepReport r = trainer.trainStep();
+    std::printf("warm-up step %d: %.0f ms\n", i + 1, r.ms);
+  }
+  std::vector<double> ms;
+  for (int i = 0; i < o.steps; ++i) {
+    ms.push_back(trainer.trainStep().ms);
+    std::printf("step %d: %.0f ms\n", i + 1, ms.back());
+  }
+  double mean = 0, var = 0;
+  for (double v : ms)
+    mean += v / ms.size();
+  for (double v : ms)
+    var += (v - mean) * (v - mean) / std::max<std::size_t>(1, ms.size() - 1);
+  std::printf("train step: %.0f +- %.0f ms (min %.0f) over %zu steps; load average %s\n", mean,
+              std::sqrt(var), *std::min_element(ms.begin(), ms.end()), ms.size(),
+              loadAverage().c_str());
+
+  // The breakdown: one profiled step (every device call finished and timed).
+  ocl::Profiler::reset();
+  ocl::Profiler::setEnabled(true);
+  const double profiledMs = trainer.trainStep().ms;
+  ocl::Profiler::setEnabled(false);
+  const std::vector<ocl::ProfileEntry> entries = ocl::Profiler::entries();
+  double device = 0;
+  std::map<std::string, double> areas;
+  for (const ocl::ProfileEntry& e : entries) {
+    device += e.ms;
+    areas[area(e.name)] += e.ms;
+  }
+  std::vector<std::pair<std::string, double>> byArea(areas.begin(), areas.end());
+  std::sort(byArea.begin(), byArea.end(), [](auto& a, auto& b) { return a.second > b.second; });
+  std::printf("profiled step: %.0f ms, of which device calls %.0f ms (%.0f %%), host %.0f ms\n",
+              profiledMs, device, 100 * device / profiledMs, profiledMs - device);
+  std::printf("%-28s %10s %7s\n", "area", "ms", "%");
+  for (const auto& [name, v] : byArea)
+    std::printf("%-28s %10.1f %6.1f\n", name.c_str(), v, 100 * v / device);
+  std::printf("%s", ocl::Profiler::report(20).c_str());
+}
+
+} // namespace
+
+void addBenchTrainCommand(CLI::App& bench) {
+  auto o = std::make_shared<BenchTrainOptions>();
+  auto* cmd = bench.add_subcommand(
+      "train", "Time one training step (ms/step) and break a profiled step down by kernel");
+  cmd->add_option("--config", o->config,
+                  "Training config (a name in model/configs/training or a .json)")
+      ->capture_default_str();
+  cmd->add_option("--data", o->data, "Training data (as simpli train)")->capture_default_str();
+  cmd->add_option("--size", o->size, "Resize the images to WIDTHxHEIGHT (default: the config's)");
+  cmd->add_option("--steps", o->steps, "Timed steps")->capture_default_str();
+  cmd->add_option("--warmup", o->warmup, "Untimed steps first (kernel compiles)")
+      ->capture_default_str();
+  cmd->add_option("--device", o->device, "OpenCL device as platform:device (see simpli devices)");
+  cmd->callback([o] { runBenchTrain(*o); });
+}
+
+} // namespace simpli::app
