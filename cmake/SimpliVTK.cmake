@@ -28,7 +28,7 @@ if (SIMPLI_USE_PARAVIEW)
     COMPONENTS CommonCore CommonDataModel CommonExecutionModel
     # Rendering: only for tests/vtk's agreement test (OpenCL rasterizer vs OpenGL). Found here,
     # at the top level, so that their imported dependencies (X11, GLEW) are visible everywhere.
-    OPTIONAL_COMPONENTS Python RenderingCore RenderingOpenGL2 RenderingUI IOImage)
+    OPTIONAL_COMPONENTS Python RenderingCore RenderingOpenGL2 RenderingUI IOImage IOImport)
   set(_simpli_vtk_python "${PARAVIEW_USE_PYTHON}")
 else ()
   # Plain VTK (libvtk9-dev, or ParaView's VTK via -DVTK_DIR=<paraview cmake dir>/vtk).
@@ -36,7 +36,7 @@ else ()
     COMPONENTS CommonCore CommonDataModel CommonExecutionModel
     # Rendering: only for tests/vtk's agreement test (OpenCL rasterizer vs OpenGL). Found here,
     # at the top level, so that their imported dependencies (X11, GLEW) are visible everywhere.
-    OPTIONAL_COMPONENTS Python RenderingCore RenderingOpenGL2 RenderingUI IOImage)
+    OPTIONAL_COMPONENTS Python RenderingCore RenderingOpenGL2 RenderingUI IOImage IOImport)
   set(_simpli_vtk_python "${VTK_WRAP_PYTHON}")
 endif ()
 message(STATUS "simpli: VTK ${VTK_VERSION} from ${VTK_DIR}; Python wrapping available: "
