@@ -5,13 +5,13 @@
 // Measures, never asserts: CI runs `--quick` as a smoke test only.
 #include "commands.h"
 
-#include <CLI/CLI.hpp>
-#include <cblas.h>
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/device.h"
 #include "simpli/ocl/ops_conv.h"
 #include "simpli/ocl/ops_linalg.h"
+#include <CLI/CLI.hpp>
+#include <cblas.h>
 
 #include <algorithm>
 #include <chrono>
@@ -238,6 +238,19 @@ void runOps(int repeat, bool quick, const std::string& selector) {
 
 void addBenchInferCommand(CLI::App& bench); // cmd_bench_infer.cpp
 void addBenchTrainCommand(CLI::App& bench); // cmd_bench_train.cpp
+#if SIMPLI_BENCH_RENDER
+void addBenchRenderCommand(CLI::App& bench); // cmd_bench_render.cpp
+#else
+// Built without VTK's rendering modules: the command exists and says so.
+void addBenchRenderCommand(CLI::App& bench) {
+  bench.add_subcommand("render", "Time VTK/OpenGL rendering of an MLI (not built here)")
+      ->allow_extras()
+      ->callback([] {
+        fail("bench render: this simpli was built without VTK's rendering modules "
+             "(SIMPLI_WITH_VTK=OFF, or VTK without RenderingOpenGL2 / RenderingUI / X11)");
+      });
+}
+#endif
 
 void addBenchCommand(CLI::App& app) {
   auto* bench = app.add_subcommand("bench", "Measure speed against reference implementations");
@@ -256,6 +269,7 @@ void addBenchCommand(CLI::App& app) {
   ops->callback([repeat, quick, selector] { runOps(*repeat, *quick, *selector); });
   addBenchInferCommand(*bench);
   addBenchTrainCommand(*bench);
+  addBenchRenderCommand(*bench);
 }
 
 } // namespace simpli::app

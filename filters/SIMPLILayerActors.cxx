@@ -18,10 +18,16 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkTexture.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
 
+#include <X11/Xlib.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <thread>
 
 #include "simpli/error.h"
 
@@ -31,9 +37,20 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-vtkSmartPointer<vtkActor> layerActor(vtkPolyData* layer) {
+// The RGB of a 4-component unsigned char array (the alpha dropped: an opaque copy).
+vtkSmartPointer<vtkUnsignedCharArray> opaqueColours(vtkDataArray* rgba) {
+  auto rgb = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  rgb->SetName("RGB");
+  rgb->SetNumberOfComponents(3);
+  rgb->SetNumberOfTuples(rgba->GetNumberOfTuples());
+  for (vtkIdType t = 0; t < rgba->GetNumberOfTuples(); ++t)
+    for (int c = 0; c < 3; ++c)
+      rgb->SetValue(3 * t + c, static_cast<unsigned char>(rgba->GetComponent(t, c)));
+  return rgb;
+}
+
+vtkSmartPointer<vtkActor> layerActor(vtkPolyData* layer, bool opaque) {
   vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(layer);
   auto actor = vtkSmartPointer<vtkActor>::New();
   actor->SetMapper(mapper);
   vtkProperty* property = actor->GetProperty();
@@ -43,6 +60,13 @@ vtkSmartPointer<vtkActor> layerActor(vtkPolyData* layer) {
   property->SetSpecular(0.0);
   property->LightingOff();
   if (vtkSmartPointer<vtkImageData> image = vtkmli::layerTexture(layer)) {
+    if (opaque) {
+      auto rgb = vtkSmartPointer<vtkImageData>::New();
+      rgb->SetDimensions(image->GetDimensions());
+      rgb->GetPointData()->SetScalars(opaqueColours(image->GetPointData()->GetScalars()));
+      image = rgb;
+    }
+    mapper->SetInputData(layer);
     mapper->ScalarVisibilityOff();
     vtkNew<vtkTexture> texture;
     texture->SetInputData(image);
@@ -53,6 +77,14 @@ vtkSmartPointer<vtkActor> layerActor(vtkPolyData* layer) {
     texture->PremultipliedAlphaOff(); // the MLI's RGBA is straight
     actor->SetTexture(texture);
   } else {
+    vtkPolyData* input = layer;
+    vtkNew<vtkPolyData> copy;
+    if (opaque && layer->GetPointData()->GetScalars()) {
+      copy->ShallowCopy(layer);
+      copy->GetPointData()->SetScalars(opaqueColours(layer->GetPointData()->GetScalars()));
+      input = copy;
+    }
+    mapper->SetInputData(input);
     mapper->ScalarVisibilityOn();
     mapper->SetScalarModeToUsePointData();
     mapper->SetColorModeToDirectScalars(); // RGBA as is (ParaView: MapScalars off)
@@ -63,14 +95,15 @@ vtkSmartPointer<vtkActor> layerActor(vtkPolyData* layer) {
 } // namespace
 
 std::vector<vtkSmartPointer<vtkActor>> addLayerActors(vtkRenderer* renderer,
-                                                      vtkPartitionedDataSetCollection* layers) {
+                                                      vtkPartitionedDataSetCollection* layers,
+                                                      const LayerActorOptions& options) {
   std::vector<vtkSmartPointer<vtkActor>> actors;
   for (unsigned int k = 0; k < layers->GetNumberOfPartitionedDataSets(); ++k) {
     vtkPartitionedDataSet* pds = layers->GetPartitionedDataSet(k);
     auto* layer = pds ? vtkPolyData::SafeDownCast(pds->GetPartition(0)) : nullptr;
     if (!layer)
       fail("MLI actors: data set ", k, " of the layer collection is not a vtkPolyData");
-    actors.push_back(layerActor(layer));
+    actors.push_back(layerActor(layer, k == 0 && options.opaqueBackLayer));
     renderer->AddActor(actors.back());
   }
   return actors;
@@ -116,6 +149,20 @@ std::vector<float> grabRGB(vtkRenderWindow* window) {
         rgb[3 * (static_cast<std::size_t>(y) * W + x) + c] = static_cast<float>(
             scalars->GetComponent(static_cast<vtkIdType>(H - 1 - y) * W + x, c) / 255.0);
   return rgb;
+}
+
+bool holdXDisplay() {
+  static Display* display = nullptr; // kept open on purpose, until exit
+  if (display)
+    return true;
+  if (!std::getenv("DISPLAY"))
+    return false;
+  for (int attempt = 0; attempt < 600; ++attempt) {
+    if ((display = XOpenDisplay(nullptr)))
+      return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
 }
 
 } // namespace simpli::vtkrender

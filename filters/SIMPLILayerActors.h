@@ -30,6 +30,13 @@ class vtkRenderer;
 
 namespace simpli::vtkrender {
 
+struct LayerActorOptions {
+  /// Draw the first (farthest) layer opaque, its colour without its alpha: the rasterizer's
+  /// rule that the farthest fragment of a pixel is opaque (spec §6.7), which is what
+  /// `simpli render` shows; off draws every layer with its own alpha.
+  bool opaqueBackLayer = true;
+};
+
 /// Adds one actor per layer of `layers` to `renderer` in dataset order (back to front) and
 /// returns them. Unlit (ambient 1, diffuse 0): the colour is the texel's. Adaptive layers (with
 /// a TextureRGBA) are drawn with a vtkTexture of their layerTexture (linear interpolation,
@@ -37,7 +44,8 @@ namespace simpli::vtkrender {
 /// scalars as colours (direct scalars, ParaView's MapScalars off). Throws simpli::Error naming
 /// the layer when a dataset is not a vtkPolyData.
 std::vector<vtkSmartPointer<vtkActor>> addLayerActors(vtkRenderer* renderer,
-                                                      vtkPartitionedDataSetCollection* layers);
+                                                      vtkPartitionedDataSetCollection* layers,
+                                                      const LayerActorOptions& options = {});
 
 /// Makes `renderer` blend translucent actors in the order they were added (see above): no depth
 /// peeling, a vtkRenderStepsPass instead of the default order-independent translucency.
@@ -51,5 +59,10 @@ void setCamera(vtkCamera* vc, const scene::Camera& c, double nearZ, double farZ)
 
 /// The window's colour buffer as RGB in [0, 1], interleaved, row 0 = the top image row.
 std::vector<float> grabRGB(vtkRenderWindow* window);
+
+/// Connects to $DISPLAY (retrying for up to 30 s) and keeps the connection until the process
+/// exits: Xvfb resets when its last client leaves and refuses clients meanwhile, and VTK aborts
+/// the process on a refused connection. False when DISPLAY is unset or nothing answers.
+bool holdXDisplay();
 
 } // namespace simpli::vtkrender

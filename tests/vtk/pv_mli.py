@@ -96,7 +96,7 @@ if "SIMPLIMLIReader" not in globals():
 reader = SIMPLIMLIReader(FileName=mli)  # noqa: F821  (defined by LoadPlugin)
 props = set(reader.ListProperties())
 expected = {"FileName", "DropTransparentTriangles", "SkipEmptyLayers", "AlphaThreshold",
-            "DepthDecoding"}
+            "DepthDecoding", "MeshMode", "MeshTolerance"}
 if not expected <= props:
     fail(f"reader lacks properties {sorted(expected - props)}")
 hints = reader.SMProxy.GetHints()
@@ -133,6 +133,24 @@ centre_id = (N // 2) * N + N // 2
 if tuple(rgba[centre_id]) != (255, 0, 0, 255) or tuple(rgba[0]) != (255, 0, 0, 0):
     fail(f"front layer RGBA {rgba[centre_id]} {rgba[0]}")
 print("reader OK:", info.GetNumberOfPoints(), "points, arrays", reader.PointData.keys())
+
+# --- adaptive meshes: fewer triangles, texture coordinates, the texels in the field data ----------
+reader.MeshMode = "Adaptive"
+reader.MeshTolerance = 0.5
+reader.UpdatePipeline()
+adaptive = reader.GetClientSideObject().GetOutputDataObject(0)
+cells = sum(adaptive.GetPartitionedDataSet(k).GetPartition(0).GetNumberOfCells() for k in range(2))
+if not 0 < cells < 2 * 2 * (N - 1) * (N - 1):
+    fail(f"adaptive layers have {cells} triangles")
+layer = adaptive.GetPartitionedDataSet(1).GetPartition(0)
+if layer.GetPointData().GetTCoords() is None:
+    fail("adaptive layer without TCoords")
+texture = layer.GetFieldData().GetArray("TextureRGBA")
+if texture is None or texture.GetNumberOfTuples() != N * N:
+    fail(f"adaptive layer TextureRGBA {texture and texture.GetNumberOfTuples()}")
+print("adaptive OK:", cells, "triangles")
+reader.MeshMode = "Per Texel"
+reader.UpdatePipeline()
 
 # --- reader factory: File > Open on meta.json picks the MLI reader ----------------------------------
 opened = OpenDataFile(os.path.join(mli, "meta.json"))

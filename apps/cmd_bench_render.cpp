@@ -1,0 +1,471 @@
+// `simpli bench render`: times VTK/OpenGL rendering (an offscreen window, e.g. under xvfb-run)
+// of the per-texel and the adaptive form of the same MLI along a small orbit, and prints per
+// form the mesh build time, triangles, points, the bytes a GPU holds, frames per second, and
+// the PSNR of its images against the per-texel form's at the same cameras. Measures, never
+// asserts.
+//
+// The MLI is an MLI folder, or (--synthetic) a 4-layer 1008 x 752 MLI made here for a standard
+// measurement (see syntheticMLI). Both forms are drawn as simpli_vtk_render draws them: one
+// unlit actor per layer, back to front, straight alpha, a texture per adaptive layer.
+// Cameras: the orbit `simpli render --trajectory orbit` uses for an MLI without a scene (radius
+// 0.05 x the focus depth, in the reference image plane), with the reference camera's vertical
+// field of view and principal point at the window size (square pixels: fx' = fy' H / W).
+// Timing: after --warmup frames (shader compilation, uploads), --frames frames, each rendered
+// and finished (WaitForCompletion), capped at --max-seconds per form; fps = frames / time.
+#include "SIMPLILayerActors.h"
+#include "SIMPLIMLIToVTK.h"
+
+#include <vtkCamera.h>
+#include <vtkFieldData.h>
+#include <vtkNew.h>
+#include <vtkPartitionedDataSet.h>
+#include <vtkPartitionedDataSetCollection.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+
+#include <CLI/CLI.hpp>
+
+#include "simpli/error.h"
+#include "simpli/model/mli/files.h"
+#include "simpli/model/scene/trajectory.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace simpli::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct BenchRenderOptions {
+  std::string mli;
+  bool synthetic = false;
+  bool quick = false;
+  std::string size = "1024x768";
+  int frames = 60;
+  int warmup = 5;
+  double maxSeconds = 20.0;
+  std::vector<double> tolerances{0.25};
+  std::string saveMli; ///< write the MLI rendered (e.g. the synthetic one) here, lossless form
+};
+
+// ---- the synthetic MLI -------------------------------------------------------------------
+
+// Smooth value noise in [0, 1] with `octaves` octaves, lattice spacing `cell` texels.
+class ValueNoise {
+public:
+  explicit ValueNoise(std::uint32_t seed) : seed_(seed) {}
+  double operator()(double x, double y, double cell, int octaves) const {
+    double sum = 0, weight = 0, amplitude = 1;
+    for (int o = 0; o < octaves; ++o, cell *= 0.5, amplitude *= 0.5) {
+      sum += amplitude * smooth(x / cell, y / cell, static_cast<std::uint32_t>(o));
+      weight += amplitude;
+    }
+    return sum / weight;
+  }
+
+private:
+  double lattice(std::int64_t i, std::int64_t j, std::uint32_t octave) const {
+    std::uint32_t h = seed_ ^ (static_cast<std::uint32_t>(i) * 0x8da6b343u) ^
+                      (static_cast<std::uint32_t>(j) * 0xd8163841u) ^ (octave * 0xcb1ab31fu);
+    h ^= h >> 13;
+    h *= 0x5bd1e995u;
+    h ^= h >> 15;
+    return (h & 0xffffff) / static_cast<double>(0xffffff);
+  }
+  double smooth(double x, double y, std::uint32_t octave) const {
+    const double fx = std::floor(x), fy = std::floor(y);
+    const auto i = static_cast<std::int64_t>(fx), j = static_cast<std::int64_t>(fy);
+    const double s = x - fx, t = y - fy;
+    const double u = s * s * (3 - 2 * s), v = t * t * (3 - 2 * t);
+    const double a = lattice(i, j, octave), b = lattice(i + 1, j, octave);
+    const double c = lattice(i, j + 1, octave), d = lattice(i + 1, j + 1, octave);
+    return a + u * (b - a) + v * (c - a) + u * v * (a - b - c + d);
+  }
+  std::uint32_t seed_;
+};
+
+double clamp01(double v) {
+  return std::min(1.0, std::max(0.0, v));
+}
+
+void setTexel(mli::MLILayer& layer, std::size_t p, double depth, double r, double g, double b,
+              double a) {
+  layer.depth[p] = static_cast<float>(depth);
+  layer.rgba[4 * p + 0] = static_cast<float>(clamp01(r));
+  layer.rgba[4 * p + 1] = static_cast<float>(clamp01(g));
+  layer.rgba[4 * p + 2] = static_cast<float>(clamp01(b));
+  layer.rgba[4 * p + 3] = static_cast<float>(clamp01(a));
+}
+
+// A forward-facing scene as SIMPLI's layers look (layer 0 farthest): an opaque background
+// receding towards the top (a slanted surface with fine texture), rolling hills over part of
+// the image, round objects with curved depth and soft edges, and sparse foliage near the
+// camera. Depths are ordered per texel (each layer nearer than the one behind it).
+mli::MLI syntheticMLI(int W, int H) {
+  scene::Camera ref;
+  ref.fx = 0.9;
+  ref.fy = 0.9 * W / H;
+  ref.width = W;
+  ref.height = H;
+  mli::MLI mli = mli::MLI::allocate(ref, 4);
+  const ValueNoise noise(20230101u);
+  const double scale = W / 1008.0; // features keep their size in the image
+  for (int i = 0; i < H; ++i)
+    for (int j = 0; j < W; ++j) {
+      const std::size_t p = static_cast<std::size_t>(i) * W + j;
+      const double u = j / (W - 1.0), v = i / (H - 1.0);
+      const double n1 = noise(j, i, 40 * scale, 4), n2 = noise(j + 500, i, 12 * scale, 3);
+      // Background: 1/z from 1/40 at the top to 1/12 at the bottom.
+      setTexel(mli.layers[0], p, 1.0 / (0.025 + 0.058 * v), 0.3 + 0.5 * n1, 0.45 + 0.3 * n2,
+               0.6 - 0.4 * v + 0.2 * n2, 1.0);
+      // Hills: depth 7..9, visible where a coarse noise is high, with a soft edge.
+      const double hill = noise(j + 2000, i + 100, 160 * scale, 2);
+      setTexel(mli.layers[1], p, 8.0 + std::sin(4 * u) * std::cos(3 * v), 0.25 + 0.4 * n2,
+               0.5 + 0.3 * n1, 0.2, (hill - 0.45) * 12.0);
+      // Round objects (spheres seen head-on): depth 3.5..4.5, soft 3-texel edges.
+      double depth2 = 4.5, alpha2 = 0.0, shade = 0.0;
+      for (const auto& [cu, cv, radius] :
+           {std::array<double, 3>{0.3, 0.6, 0.12}, std::array<double, 3>{0.7, 0.45, 0.09},
+            std::array<double, 3>{0.55, 0.8, 0.07}}) {
+        const double r = std::hypot((u - cu) * W, (v - cv) * H) / (radius * W);
+        const double edge = clamp01((1.0 - r) * radius * W / 3.0);
+        if (edge > alpha2) {
+          alpha2 = edge;
+          depth2 = 4.5 - std::sqrt(std::max(0.0, 1.0 - r * r));
+          shade = 1.0 - 0.5 * r;
+        }
+      }
+      setTexel(mli.layers[2], p, depth2, 0.8 * shade + 0.2 * n2, 0.3 * shade, 0.35 * n1, alpha2);
+      // Foliage: depth 2..2.4 in the top-left third, alpha from fine noise.
+      const double leaf = noise(j + 4000, i + 3000, 6 * scale, 2);
+      const double region = clamp01((0.45 - std::hypot(u - 0.1, v - 0.15)) * 8.0);
+      setTexel(mli.layers[3], p, 2.0 + 0.4 * u, 0.2 + 0.3 * leaf, 0.55 + 0.3 * n2, 0.15,
+               region * clamp01((leaf - 0.5) * 6.0) * 0.9);
+    }
+  return mli;
+}
+
+// ---- the two forms -----------------------------------------------------------------------
+
+struct Form {
+  std::string name;
+  vtkSmartPointer<vtkPartitionedDataSetCollection> layers;
+  double buildMs = 0;
+  long long triangles = 0, points = 0;
+  double bytes = 0; ///< positions, colours or texture coordinates, indices, textures
+};
+
+Form buildForm(const mli::MLI& mli, vtkmli::MeshMode mode, double tolerance) {
+  Form form;
+  char name[64];
+  if (mode == vtkmli::MeshMode::Adaptive)
+    std::snprintf(name, sizeof name, "adaptive %.3g px", tolerance);
+  else
+    std::snprintf(name, sizeof name, "per-texel");
+  form.name = name;
+  vtkmli::LayerOptions options;
+  options.meshMode = mode;
+  options.meshTolerance = tolerance;
+  form.layers = vtkSmartPointer<vtkPartitionedDataSetCollection>::New();
+  const auto t0 = Clock::now();
+  vtkmli::mliToCollection(mli, options, form.layers);
+  form.buildMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  for (unsigned int k = 0; k < form.layers->GetNumberOfPartitionedDataSets(); ++k) {
+    auto* pd = vtkPolyData::SafeDownCast(form.layers->GetPartitionedDataSet(k)->GetPartition(0));
+    const long long n = pd->GetNumberOfPoints(), t = pd->GetNumberOfPolys();
+    form.points += n;
+    form.triangles += t;
+    form.bytes += 12.0 * n + 12.0 * t;
+    if (vtkDataArray* texture = pd->GetFieldData()->GetArray(vtkmli::kTextureRGBAArray))
+      form.bytes += 8.0 * n + 4.0 * static_cast<double>(texture->GetNumberOfTuples());
+    else
+      form.bytes += 4.0 * n;
+  }
+  return form;
+}
+
+// The fill unit, the reference of the timings: one opaque textured plane where the MLI's image
+// is (the back layer's colours at the focus depth, alpha 1), two triangles covering the window.
+Form fillUnitForm(const mli::MLI& mli) {
+  mli::MLI plane = mli;
+  plane.layers.resize(1);
+  double near = std::numeric_limits<double>::infinity(), far = 0;
+  for (const mli::MLILayer& layer : mli.layers)
+    for (float d : layer.depth) {
+      near = std::min(near, static_cast<double>(d));
+      far = std::max(far, static_cast<double>(d));
+    }
+  const float depth = static_cast<float>(scene::trajectoryFocusDepth(near, far));
+  std::fill(plane.layers[0].depth.begin(), plane.layers[0].depth.end(), depth);
+  for (std::size_t p = 0; p < plane.texels(); ++p)
+    plane.layers[0].rgba[4 * p + 3] = 1.0f;
+  Form form = buildForm(plane, vtkmli::MeshMode::Adaptive, 0.25);
+  form.name = "fill unit (1 plane)";
+  return form;
+}
+
+// ---- timing ------------------------------------------------------------------------------
+
+// CPU time of the whole process (Mesa's llvmpipe rasterizes on threads of this process), so
+// that a loaded machine's share of the cores shows as wall time > CPU time / threads.
+double processCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// One form in its own offscreen window, ready to draw (actors built, shaders compiled and
+// buffers uploaded by the warm-up frames).
+class FormWindow {
+public:
+  FormWindow(const Form& form, int W, int H, double nearZ, double farZ)
+      : nearZ_(nearZ), farZ_(farZ) {
+    renderer_->SetBackground(0, 0, 0);
+    vtkrender::useLayerOrderBlending(renderer_);
+    vtkrender::addLayerActors(renderer_, form.layers);
+    window_->SetOffScreenRendering(1);
+    window_->SetMultiSamples(0);
+    window_->SetSize(W, H);
+    window_->AddRenderer(renderer_);
+  }
+  void draw(const scene::Camera& c) {
+    vtkrender::setCamera(renderer_->GetActiveCamera(), c, nearZ_, farZ_);
+    window_->Render();
+    window_->WaitForCompletion();
+  }
+  std::vector<float> grab() { return vtkrender::grabRGB(window_); }
+
+private:
+  vtkNew<vtkRenderer> renderer_;
+  vtkNew<vtkRenderWindow> window_;
+  double nearZ_, farZ_;
+};
+
+struct Timing {
+  int frames = 0;
+  double seconds = 0, cpuSeconds = 0;
+  std::vector<double> roundMsPerFrame;    ///< per round
+  std::vector<std::vector<float>> images; ///< at the sample cameras
+};
+
+// Draws cameras[begin, end) (or fewer, when `budget` seconds run out) and adds them to `t`.
+void timeRound(FormWindow& w, const std::vector<scene::Camera>& cameras, std::size_t begin,
+               std::size_t end, double budget, Timing& t) {
+  const auto t0 = Clock::now();
+  const double cpu0 = processCpuSeconds();
+  int frames = 0;
+  double seconds = 0;
+  for (std::size_t f = begin; f < end && seconds <= budget; ++f) {
+    w.draw(cameras[f]);
+    ++frames;
+    seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  t.frames += frames;
+  t.seconds += seconds;
+  t.cpuSeconds += processCpuSeconds() - cpu0;
+  t.roundMsPerFrame.push_back(1000.0 * seconds / std::max(frames, 1));
+}
+
+// Times every form in rounds that take turns (each round draws the next stretch of the orbit
+// with every form), so that a change of the machine's load between forms shows in all of them
+// alike; then renders the sample cameras.
+std::vector<Timing> timeForms(const std::vector<Form>& forms,
+                              const std::vector<scene::Camera>& cameras,
+                              const std::vector<std::size_t>& samples, double nearZ, double farZ,
+                              const BenchRenderOptions& o) {
+  std::vector<std::unique_ptr<FormWindow>> windows;
+  for (const Form& form : forms) {
+    windows.push_back(
+        std::make_unique<FormWindow>(form, cameras[0].width, cameras[0].height, nearZ, farZ));
+    for (int f = 0; f < o.warmup; ++f)
+      windows.back()->draw(cameras[static_cast<std::size_t>(f) % cameras.size()]);
+  }
+  const std::size_t rounds = std::min<std::size_t>(5, cameras.size());
+  std::vector<Timing> timings(forms.size());
+  for (std::size_t r = 0; r < rounds; ++r)
+    for (std::size_t f = 0; f < forms.size(); ++f)
+      timeRound(*windows[f], cameras, r * cameras.size() / rounds,
+                (r + 1) * cameras.size() / rounds, o.maxSeconds / rounds, timings[f]);
+  for (std::size_t f = 0; f < forms.size(); ++f)
+    for (std::size_t s : samples) {
+      windows[f]->draw(cameras[s]);
+      timings[f].images.push_back(windows[f]->grab());
+    }
+  return timings;
+}
+
+// Median over rounds of (frame time of `t` / frame time of `unit`).
+double fillUnits(const Timing& t, const Timing& unit) {
+  std::vector<double> ratios;
+  for (std::size_t r = 0; r < t.roundMsPerFrame.size(); ++r)
+    ratios.push_back(t.roundMsPerFrame[r] / unit.roundMsPerFrame[r]);
+  std::sort(ratios.begin(), ratios.end());
+  const std::size_t n = ratios.size();
+  return n % 2 ? ratios[n / 2] : 0.5 * (ratios[n / 2 - 1] + ratios[n / 2]);
+}
+
+double psnrAgainst(const Timing& a, const Timing& reference) {
+  double se = 0;
+  std::size_t n = 0;
+  for (std::size_t s = 0; s < a.images.size(); ++s)
+    for (std::size_t i = 0; i < a.images[s].size(); ++i) {
+      const double d = static_cast<double>(a.images[s][i]) - reference.images[s][i];
+      se += d * d;
+      ++n;
+    }
+  return se == 0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(n / se);
+}
+
+std::string loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  double a = 0, b = 0, c = 0;
+  if (!(in >> a >> b >> c))
+    return "unknown";
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.2f %.2f %.2f (1, 5, 15 min) on %u hardware threads", a, b, c,
+                std::thread::hardware_concurrency());
+  return buf;
+}
+
+void parseSize(const std::string& size, int& W, int& H) {
+  char tail = 0;
+  if (std::sscanf(size.c_str(), "%dx%d%c", &W, &H, &tail) != 2 || W < 16 || H < 16 || W > 8192 ||
+      H > 8192)
+    fail("--size '", size, "': expected WIDTHxHEIGHT with both in 16..8192, e.g. 1024x768");
+}
+
+void validate(const BenchRenderOptions& o) {
+  if (o.synthetic == !o.mli.empty())
+    fail(o.synthetic ? "--synthetic and an MLI folder exclude each other"
+                     : "give an MLI folder or --synthetic");
+  if (o.frames < 1)
+    fail("--frames ", o.frames, ": need at least 1");
+  if (o.warmup < 0)
+    fail("--warmup ", o.warmup, ": must be >= 0");
+  if (!(o.maxSeconds > 0))
+    fail("--max-seconds ", o.maxSeconds, ": must be > 0");
+  for (double t : o.tolerances)
+    if (!(t >= 0) || !std::isfinite(t))
+      fail("--tolerance ", t, ": must be finite and >= 0");
+}
+
+void runBenchRender(BenchRenderOptions o) {
+  if (o.quick) {
+    o.synthetic = o.synthetic || o.mli.empty();
+    o.size = "320x240";
+    o.frames = std::min(o.frames, 8);
+    o.warmup = std::min(o.warmup, 1);
+    o.maxSeconds = std::min(o.maxSeconds, 5.0);
+  }
+  validate(o);
+  int W = 0, H = 0;
+  parseSize(o.size, W, H);
+  if (!vtkrender::holdXDisplay())
+    fail("bench render needs an X server (DISPLAY=",
+         std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "unset",
+         "): run it under xvfb-run -a, or on a desktop");
+  const mli::MLI mli = o.synthetic ? (o.quick ? syntheticMLI(160, 120) : syntheticMLI(1008, 752))
+                                   : mli::readMLI(o.mli);
+  mli::validateMLI(mli, o.synthetic ? "synthetic MLI" : o.mli);
+  if (!o.saveMli.empty())
+    mli::writeMLI(o.saveMli, mli, mli::MLIFormat::Lossless);
+
+  double near = std::numeric_limits<double>::infinity(), far = 0;
+  for (const mli::MLILayer& layer : mli.layers)
+    for (float d : layer.depth) {
+      near = std::min(near, static_cast<double>(d));
+      far = std::max(far, static_cast<double>(d));
+    }
+  scene::TrajectoryOptions orbit;
+  orbit.kind = scene::TrajectoryKind::Orbit;
+  orbit.frames = o.frames;
+  orbit = scene::resolveTrajectory(orbit, mli.camera, {}, near, far);
+  std::vector<scene::Camera> cameras = scene::makeTrajectory(mli.camera, orbit);
+  for (scene::Camera& c : cameras) {
+    c.width = W;
+    c.height = H;
+    c.fx = c.fy * H / W;
+  }
+  std::vector<std::size_t> samples;
+  for (std::size_t s = 0; s < 4; ++s)
+    samples.push_back(s * cameras.size() / 4);
+  const double nearZ = 0.25 * near, farZ = 4.0 * far;
+
+  std::printf("bench render: %s, %d layers of %d x %d texels; offscreen window %d x %d; orbit "
+              "of %zu cameras, radius %.4g (focus depth %.4g); %d warm-up frame(s), up to %d "
+              "timed (at most %.0f s per form)\n",
+              o.synthetic ? "synthetic MLI" : o.mli.c_str(), mli.numLayers(), mli.width(),
+              mli.height(), W, H, cameras.size(), orbit.radii.x(), orbit.focusDepth, o.warmup,
+              o.frames, o.maxSeconds);
+  std::printf("load average at start: %s\n", loadAverage().c_str());
+  std::printf("%-22s %9s %10s %10s %8s %8s %9s %9s %7s %6s %14s\n", "form", "build ms", "triangles",
+              "points", "MiB", "fps", "ms/frame", "CPU ms/f", "frames", "units", "PSNR/per-texel");
+  std::fflush(stdout);
+
+  std::vector<Form> forms;
+  forms.push_back(fillUnitForm(mli));
+  forms.push_back(buildForm(mli, vtkmli::MeshMode::PerTexel, 0.0));
+  for (double t : o.tolerances)
+    forms.push_back(buildForm(mli, vtkmli::MeshMode::Adaptive, t));
+  const std::vector<Timing> timings = timeForms(forms, cameras, samples, nearZ, farZ, o);
+  for (std::size_t f = 0; f < forms.size(); ++f) {
+    const Timing& t = timings[f];
+    const double ms = 1000.0 * t.seconds / t.frames;
+    char psnr[32] = "-";
+    if (f > 1)
+      std::snprintf(psnr, sizeof psnr, "%.2f dB", psnrAgainst(t, timings[1]));
+    std::printf("%-22s %9.1f %10lld %10lld %8.2f %8.2f %9.2f %9.2f %7d %6.2f %14s\n",
+                forms[f].name.c_str(), forms[f].buildMs, forms[f].triangles, forms[f].points,
+                forms[f].bytes / 1048576.0, 1000.0 / ms, ms, 1000.0 * t.cpuSeconds / t.frames,
+                t.frames, fillUnits(t, timings[0]), psnr);
+  }
+  std::printf("units: frame time / the fill unit's (one opaque textured plane covering the "
+              "window) in the same round (median of %zu rounds); the same on any machine to the "
+              "extent that both are fill-bound\n",
+              std::min<std::size_t>(5, cameras.size()));
+  std::printf("load average at end: %s\n", loadAverage().c_str());
+}
+
+} // namespace
+
+void addBenchRenderCommand(CLI::App& bench) {
+  auto o = std::make_shared<BenchRenderOptions>();
+  auto* cmd = bench.add_subcommand(
+      "render", "Time VTK/OpenGL rendering of an MLI's per-texel and adaptive forms (needs X)");
+  cmd->add_option("mli", o->mli, "MLI folder (reference JPEG form or lossless form)");
+  cmd->add_flag("--synthetic", o->synthetic,
+                "A synthetic 4-layer 1008 x 752 MLI (the standard measurement)");
+  cmd->add_flag("--quick", o->quick,
+                "Small: a 160 x 120 synthetic MLI, a 320 x 240 window, 8 frames (a smoke test)");
+  cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_option("--frames", o->frames, "Timed frames per form (one orbit)")
+      ->capture_default_str();
+  cmd->add_option("--warmup", o->warmup, "Untimed frames first")->capture_default_str();
+  cmd->add_option("--max-seconds", o->maxSeconds, "Stop timing a form after this long")
+      ->capture_default_str();
+  cmd->add_option("--tolerance", o->tolerances,
+                  "Adaptive mesh tolerances in pixels, comma separated (one form each)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--save-mli", o->saveMli,
+                  "Also write the MLI measured (e.g. the synthetic one) here, lossless form");
+  cmd->callback([o] { runBenchRender(*o); });
+}
+
+} // namespace simpli::app
