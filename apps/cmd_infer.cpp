@@ -8,12 +8,16 @@
 // cancel it after the current stage (or after the write, before the commit), write nothing and
 // exit with 130 / 143.
 //
+// SCENE may also be a folder of scene folders: `simpli infer SCENES_DIR --out OUT` builds each
+// into OUT/<scene> (cmd_infer_scenes.cpp), spread over the ranks under mpiexec.
+//
 // DIR is written as a whole (io/staged_folder.h): both MLI forms, the rendered views and the
 // random weights go into one hidden staging sibling that replaces DIR in one step, so a failure or
 // a kill leaves the old complete DIR or the new one. An existing DIR is replaced only when it
 // holds nothing but what an earlier `simpli infer` wrote (mli::mliReplaceRefusal with the extras
 // below); anything else is refused before the forward pass.
 #include "commands.h"
+#include "infer.h"
 #include "progress_bar.h"
 #include "simpli/model/network/loader.h"
 #include "stop_signals.h"
@@ -32,8 +36,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdarg>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -41,13 +47,6 @@
 namespace simpli::app {
 
 namespace {
-
-struct InferOptions {
-  std::string scene, weights, config, layers = "all", device, out;
-  std::vector<int> views, renderViews;
-  int corrections = -1;
-  int64_t initRandom = -1; ///< >= 0: random weights with this seed
-};
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) {
@@ -89,8 +88,62 @@ float layersThreshold(const std::string& layers, const network::NetworkConfig& c
   return 0.0f;
 }
 
-/// What `simpli infer` writes into DIR besides the JPEG MLI: the lossless MLI, rendered views,
-/// the random weights.
+int cancelled(const std::string& out, bool verbose) {
+  const int sig = stopSignal();
+  if (verbose)
+    std::fprintf(stderr, "simpli infer: %s received; cancelled, nothing written to %s\n",
+                 sig == SIGTERM ? "SIGTERM" : "SIGINT", out.c_str());
+  return 128 + sig;
+}
+
+/// The network's image of a rendered colour [3, H, W] in [-1, 1].
+io::Image toImage(const ocl::Tensor& colour) {
+  io::Image image(static_cast<int>(colour.size(2)), static_cast<int>(colour.size(1)));
+  image.data = colour.toVectorF32();
+  return image;
+}
+
+/// printf when `on` (the one-scene report; a folder of scenes prints one table instead).
+__attribute__((format(printf, 2, 3))) void report(bool on, const char* format, ...) {
+  if (!on)
+    return;
+  va_list args;
+  va_start(args, format);
+  std::vfprintf(stdout, format, args);
+  va_end(args);
+}
+
+/// SCENE is a folder of scene folders (not a scene, and at least one subfolder is one).
+bool isSceneCollection(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(path, ec) || scene::isSceneFolder(path))
+    return false;
+  for (const scene::SceneFolder& s : scene::listSceneFolders(path))
+    if (s.problem.empty())
+      return true;
+  return false;
+}
+
+int runInfer(const InferOptions& o) {
+  // Before the device is opened (stop_signals.h), and until the output is committed: a signal
+  // cancels the forward pass or the write, and never kills the command or its helpers.
+  StopSignals signals;
+  if (!o.device.empty()) {
+    const auto [platform, device] = ocl::Device::parseSelector(o.device, "--device");
+    ocl::Device::select(platform, device);
+  }
+  if (o.corrections < -1)
+    fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
+  if (o.out.empty())
+    fail("--out: an output folder is required");
+  if (isSceneCollection(o.scene))
+    return inferScenes(o, scene::listSceneFolders(o.scene));
+  InferNetwork net;
+  return inferScene(o, o.scene, o.out, net, /*verbose=*/true).exitCode;
+}
+
+} // namespace
+
 mli::MLIFolderExtras inferOutputExtras() {
   mli::MLIFolderExtras extras;
   extras.mliFolders = {"lossless"};
@@ -108,44 +161,40 @@ mli::MLIFolderExtras inferOutputExtras() {
   return extras;
 }
 
-int cancelled(const std::string& out) {
-  const int sig = stopSignal();
-  std::fprintf(stderr, "simpli infer: %s received; cancelled, nothing written to %s\n",
-               sig == SIGTERM ? "SIGTERM" : "SIGINT", out.c_str());
-  return 128 + sig;
+void loadInferNetwork(const InferOptions& o, InferNetwork& net) {
+  if (net.loaded)
+    return;
+  generator::NetworkSource source;
+  source.config = o.config;
+  source.weights = o.weights;
+  if (o.initRandom >= 0)
+    source.randomSeed = static_cast<uint64_t>(o.initRandom);
+  const network::LoadedNetwork& loaded = net.builder.network(source);
+  const network::NetworkConfig& config = loaded.network->config();
+  if (o.corrections > config.mliCorrections())
+    fail("--corrections ", o.corrections, ": config '", config.name, "' has ",
+         config.mliCorrections(), " corrections");
+  net.build.corrections = o.corrections;
+  net.build.keepOutput = true; // for --render-views
+  net.build.dropEmptyBelow = layersThreshold(o.layers, config);
+  net.loaded = &loaded;
 }
 
-/// The network's image of a rendered colour [3, H, W] in [-1, 1].
-io::Image toImage(const ocl::Tensor& colour) {
-  io::Image image(static_cast<int>(colour.size(2)), static_cast<int>(colour.size(1)));
-  image.data = colour.toVectorF32();
-  return image;
-}
-
-int runInfer(const InferOptions& o) {
+SceneInference inferScene(const InferOptions& o, const std::string& scenePath,
+                          const std::string& out, InferNetwork& net, bool verbose) {
   namespace fs = std::filesystem;
   const auto start = Clock::now();
-  // Before the device is opened (stop_signals.h), and until the output is committed: a signal
-  // cancels the forward pass or the write, and never kills the command or its helpers.
-  StopSignals signals;
-  if (!o.device.empty()) {
-    const auto [platform, device] = ocl::Device::parseSelector(o.device, "--device");
-    ocl::Device::select(platform, device);
-  }
-  if (o.corrections < -1)
-    fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
-  if (o.out.empty())
-    fail("--out: an output folder is required");
-  // Before the long work: an --out that cannot be written or must not be replaced fails now.
+  SceneInference result;
+  // Before the long work: an output that cannot be written or must not be replaced fails now.
   const io::ReplaceCheck replaceable = [](const fs::path& folder) {
     return mli::mliReplaceRefusal(folder.string(), inferOutputExtras());
   };
-  io::checkReplaceable(o.out, replaceable, "--out");
-  io::checkOutputLocation(o.out, "--out", /*createParents=*/true);
+  io::checkReplaceable(out, replaceable, "--out");
+  io::checkOutputLocation(out, "--out", /*createParents=*/true);
 
   // Scene and source views.
   auto t0 = Clock::now();
-  const scene::Scene scene = scene::readScene(o.scene);
+  const scene::Scene scene = scene::readScene(scenePath);
   std::vector<int> views = o.views;
   if (views.empty())
     for (std::size_t i = 0; i < scene.size(); ++i)
@@ -155,35 +204,23 @@ int runInfer(const InferOptions& o) {
   const double readMs = msSince(t0);
 
   // Network.
-  generator::MLIBuilder builder;
-  generator::NetworkSource source;
-  source.config = o.config;
-  source.weights = o.weights;
-  if (o.initRandom >= 0)
-    source.randomSeed = static_cast<uint64_t>(o.initRandom);
-  const network::LoadedNetwork& loaded = builder.network(source);
-  network::SimpliNetwork& network = *loaded.network;
+  loadInferNetwork(o, net);
+  network::SimpliNetwork& network = *net.loaded->network;
   const network::NetworkConfig& config = network.config();
-  if (o.corrections > config.mliCorrections())
-    fail("--corrections ", o.corrections, ": config '", config.name, "' has ",
-         config.mliCorrections(), " corrections");
-  generator::MLIBuildOptions options;
+  generator::MLIBuildOptions options = net.build;
   options.views = views;
-  options.corrections = o.corrections;
-  options.keepOutput = true; // for --render-views
-  options.dropEmptyBelow = layersThreshold(o.layers, config);
 
   const int H = scene.height(), W = scene.width();
-  std::printf("scene      %s (%s, %zu views of %d x %d)\n", o.scene.c_str(), toString(scene.format),
-              scene.size(), W, H);
+  report(verbose, "scene      %s (%s, %zu views of %d x %d)\n", scenePath.c_str(),
+         toString(scene.format), scene.size(), W, H);
   std::string list;
   for (int v : views)
     list += (list.empty() ? "" : ",") + std::to_string(v);
-  std::printf("sources    %zu views: %s\n", views.size(), list.c_str());
-  std::printf("network    config %s (%s), %lld parameters\n", config.name.c_str(),
-              loaded.configSource.c_str(), static_cast<long long>(network.parameters().count()));
-  std::printf("weights    %s\n", loaded.weightsDescription.c_str());
-  std::printf("device     %s\n", ocl::Device::current().info().deviceName.c_str());
+  report(verbose, "sources    %zu views: %s\n", views.size(), list.c_str());
+  report(verbose, "network    config %s (%s), %lld parameters\n", config.name.c_str(),
+         net.loaded->configSource.c_str(), static_cast<long long>(network.parameters().count()));
+  report(verbose, "weights    %s\n", net.loaded->weightsDescription.c_str());
+  report(verbose, "device     %s\n", ocl::Device::current().info().deviceName.c_str());
 
   // Forward pass and the MLI.
   ocl::BufferPool& pool = ocl::Device::current().pool();
@@ -193,54 +230,60 @@ int runInfer(const InferOptions& o) {
   generator::MLIBuild build;
   {
     std::fflush(stdout);
-    ProgressBar bar("forward", 1);
+    std::unique_ptr<ProgressBar> bar;
+    if (verbose)
+      bar = std::make_unique<ProgressBar>("forward", 1);
     options.progress = [&bar](const std::string& stage, int done, int total) {
-      // The bar counts stages; `total` is known once the pass starts.
-      bar.setTotal(total);
-      bar.update(done, stage);
+      if (bar) { // the bar counts stages; `total` is known once the pass starts
+        bar->setTotal(total);
+        bar->update(done, stage);
+      }
       return stopSignal() == 0;
     };
     try {
-      build = builder.build(scene, options);
+      build = net.builder.build(scene, options);
     } catch (const generator::GeneratorCancelled&) {
-      bar.finish();
-      return cancelled(o.out);
+      if (bar)
+        bar->finish();
+      result.exitCode = cancelled(out, verbose);
+      return result;
     }
-    bar.finish();
+    if (bar)
+      bar->finish();
   }
   const generator::GeneratorOutput& output = *build.output;
   const generator::GeneratorInput& input = build.input;
   const double forwardMs = msSince(t0);
-  // One pass per process: hand the buffers the pool parked for reuse back to the device.
+  // One pass per scene: hand the buffers the pool parked for reuse back to the device.
   pool.trim();
-  std::printf("stages (ms):");
+  report(verbose, "stages (ms):");
   for (const auto& [name, ms] : output.stageMs)
-    std::printf(" %s %.1f", name.c_str(), ms);
-  std::printf("\nforward    %.1f ms, peak device memory %.1f MiB\n", forwardMs,
-              (pool.stats().peakBytes - std::min(liveBefore, pool.stats().peakBytes)) / 1048576.0);
+    report(verbose, " %s %.1f", name.c_str(), ms);
+  report(verbose, "\nforward    %.1f ms, peak device memory %.1f MiB\n", forwardMs,
+         (pool.stats().peakBytes - std::min(liveBefore, pool.stats().peakBytes)) / 1048576.0);
 
-  // Everything goes into one staging folder that replaces --out at the end.
+  // Everything goes into one staging folder that replaces the output at the end.
   t0 = Clock::now();
   const mli::MLI& mli = build.mli;
-  const fs::path outDir(o.out);
+  const fs::path outDir(out);
   if (outDir.has_parent_path())
     fs::create_directories(outDir.parent_path());
-  io::StagedFolder staged(o.out, replaceable, {"--out"});
+  io::StagedFolder staged(out, replaceable, {"--out"});
   const fs::path& tmp = staged.path();
   mli::writeMLIFiles(tmp.string(), mli, mli::MLIFormat::Jpeg);
   fs::create_directory(tmp / "lossless");
   mli::writeMLIFiles((tmp / "lossless").string(), mli, mli::MLIFormat::Lossless);
   const std::string lossless = (outDir / "lossless").string();
   const int surfaces = static_cast<int>(output.rgba.size(0));
-  std::printf("MLI        %d of %d %s (%d x %d) -> %s (jpeg), %s (lossless); %.1f ms\n",
-              mli.numLayers(), surfaces, config.mpiOnly ? "planes" : "layers", mli.width(),
-              mli.height(), o.out.c_str(), lossless.c_str(), msSince(t0));
+  report(verbose, "MLI        %d of %d %s (%d x %d) -> %s (jpeg), %s (lossless); %.1f ms\n",
+         mli.numLayers(), surfaces, config.mpiOnly ? "planes" : "layers", mli.width(), mli.height(),
+         out.c_str(), lossless.c_str(), msSince(t0));
   if (o.initRandom >= 0) {
     // So that the same random network can be loaded again (tests, benchmarks).
     network.parameters().save(
         (tmp / "random_weights.safetensors").string(),
         {{"config", network::toJson(config)}, {"seed", std::to_string(o.initRandom)}});
-    std::printf("weights    saved to %s\n", (outDir / "random_weights.safetensors").c_str());
+    report(verbose, "weights    saved to %s\n", (outDir / "random_weights.safetensors").c_str());
   }
 
   // Rendered views.
@@ -259,29 +302,37 @@ int runInfer(const InferOptions& o) {
     const bool source = std::find(views.begin(), views.end(), k) != views.end();
     const metrics::ImageQuality q = metrics::evaluateImageQuality(
         metrics::metricImageFromImage(image), metrics::metricImageFromImage(view.image));
-    std::printf("view %-5d %s PSNR %.2f dB SSIM %.4f (%s, 90%% central crop); %.1f ms\n", k,
-                (outDir / name).c_str(), q.psnr, q.ssim, source ? "source view" : "held out",
-                msSince(t0));
+    report(verbose, "view %-5d %s PSNR %.2f dB SSIM %.4f (%s, 90%% central crop); %.1f ms\n", k,
+           (outDir / name).c_str(), q.psnr, q.ssim, source ? "source view" : "held out",
+           msSince(t0));
   }
   std::fflush(stdout);
-  if (stopSignal() != 0)
-    return cancelled(o.out); // the staging folder goes with `staged`
+  if (stopSignal() != 0) {
+    result.exitCode = cancelled(out, verbose); // the staging folder goes with `staged`
+    return result;
+  }
   staged.commit();
-  std::printf("total      %.1f ms (scene read %.1f ms)\n", msSince(start), readMs);
-  return 0;
+  result.ms = msSince(start);
+  result.layers = mli.numLayers();
+  result.width = mli.width();
+  result.height = mli.height();
+  report(verbose, "total      %.1f ms (scene read %.1f ms)\n", result.ms, readMs);
+  return result;
 }
-
-} // namespace
 
 void addInferCommand(CLI::App& app) {
   auto o = std::make_shared<InferOptions>();
   auto* cmd = app.add_subcommand(
       "infer", "Build the multi-layer image (MLI) of a scene with the SIMPLI network");
-  cmd->add_option("scene", o->scene, "Scene folder (LLFF, COLMAP or RealEstate10K)")->required();
+  cmd->add_option("scene", o->scene,
+                  "Scene folder (LLFF, COLMAP or RealEstate10K), or a folder of scene folders "
+                  "(each into OUT/<name>; spread over the ranks under mpiexec)")
+      ->required();
   cmd->add_option("--out", o->out,
                   "Output folder: the MLI in JPEG form, its lossless form in OUT/lossless, "
                   "rendered views; written as a whole, and an existing one is replaced only if "
-                  "it holds nothing but an earlier simpli infer output")
+                  "it holds nothing but an earlier simpli infer output (a folder of scenes: "
+                  "OUT/<scene> each by these rules)")
       ->required();
   cmd->add_option("--weights", o->weights,
                   "Network weights (safetensors, reference key names); default "

@@ -2,12 +2,18 @@
 // scene folder, a folder of scene folders, or synthetic[:SEED]. SIGINT / SIGTERM (any number of
 // them, from the moment the command starts) finish the current step, write a checkpoint and exit
 // with 130 / 143; `--resume` continues the run.
+//
+// Under an MPI launcher (`mpiexec -n K simpli train ...`, docs/parallel.md) the K ranks train one
+// network data-parallel (training/trainer.h): rank 0 prints, logs and checkpoints; a signal to
+// any rank stops all of them after the current step and one checkpoint, and every rank exits
+// with the same code; an error on one rank ends the job with a message naming it (main.cpp).
 #include "commands.h"
 #include "progress_bar.h"
 #include "stop_signals.h"
 
 #include "simpli/error.h"
 #include "simpli/model/io/staged_folder.h"
+#include "simpli/model/parallel/communicator.h"
 #include "simpli/model/training/monitor.h"
 #include "simpli/model/training/trainer.h"
 #include "simpli/ocl/device.h"
@@ -16,6 +22,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace simpli::app {
 
@@ -28,6 +36,41 @@ struct TrainCliOptions {
   bool resume = false;
   int64_t steps = -1, checkpointEvery = -1;
   int64_t seed = -1;
+  int samplesPerRank = 1;
+  int testExitRank = -1; ///< testing: this rank dies (no MPI_Finalize) after its first step
+};
+
+/// Every rank's stop signal, agreed (collective): SIGTERM when any rank had one, else SIGINT
+/// when any had it, and on how many ranks.
+struct AgreedSignal {
+  int signal = 0, ranks = 0;
+};
+AgreedSignal agreedSignal(parallel::Communicator& comm) {
+  const int own = stopSignal();
+  if (comm.size() == 1)
+    return {own, own != 0 ? 1 : 0};
+  std::vector<double> seen{own == SIGINT ? 1.0 : 0.0, own == SIGTERM ? 1.0 : 0.0};
+  comm.allreduceSum(seen);
+  const int signal = seen[1] > 0 ? SIGTERM : seen[0] > 0 ? SIGINT : 0;
+  return {signal, int(seen[0] + seen[1])};
+}
+
+/// Throughput of the steps this process ran: samples per second and the all-reduce's share.
+struct Throughput {
+  int64_t steps = 0;
+  int samples = 1;
+  double ms = 0, allreduceMs = 0, exchangeMs = 0;
+  void add(const training::StepReport& r) {
+    // The first step of a process compiles the kernels: not a measure of the run's speed.
+    if (++seen == 1)
+      return;
+    ++steps;
+    samples = r.samples;
+    ms += r.ms;
+    allreduceMs += r.allreduceMs;
+    exchangeMs += r.exchangeMs;
+  }
+  int64_t seen = 0;
 };
 
 void selectDevice(const std::string& text) {
@@ -41,6 +84,10 @@ int runTrain(const TrainCliOptions& o) {
   // First of all: a signal during start-up (device, data, network) is a stop request too, and
   // every later one is absorbed until the checkpoint is written (stop_signals.h).
   StopSignals signals;
+  parallel::Communicator& comm = parallel::world();
+  const bool root = comm.isRoot();
+  if (o.samplesPerRank < 1)
+    fail("--samples-per-rank ", o.samplesPerRank, ": must be >= 1");
   // A new run folder that cannot be written fails before the device and the data are opened.
   if (!o.resume && !o.out.empty())
     io::checkOutputLocation(o.out, "--out", /*createParents=*/true);
@@ -53,6 +100,7 @@ int runTrain(const TrainCliOptions& o) {
   t.checkpointEvery = o.checkpointEvery;
   t.vggPath = o.vgg;
   t.initWeights = o.initWeights;
+  t.samplesPerRank = o.samplesPerRank;
   if (!o.config.empty())
     t.dataOptions.configSource = "training config '" + o.config + "'";
   if (!o.size.empty())
@@ -77,14 +125,21 @@ int runTrain(const TrainCliOptions& o) {
       std::fprintf(stderr, "%s\n", m.c_str());
   };
   t.stopRequested = [] { return stopSignal() != 0; };
+  Throughput speed;
   t.onStep = [&](const training::StepReport& r) {
+    speed.add(r);
+    if (r.step == 1 && comm.rank() == o.testExitRank)
+      std::_Exit(3); // testing: a rank that dies without a word to MPI
+    if (!bar)
+      return;
     char detail[128];
     std::snprintf(detail, sizeof detail, "loss %.4f, l1 %.4f, lr %.3g, %.0f ms/step", r.total,
                   r.terms[0].second, r.lr, r.ms);
     bar->update(r.step, detail);
   };
+  // Validation and the progress pictures are rank 0's (it owns the run folder).
   training::ValidationOptions v;
-  v.scene = o.validate;
+  v.scene = root ? o.validate : std::string();
   v.every = o.validateEvery;
   if (o.validateEvery < 1)
     fail("--validate-every ", o.validateEvery, ": must be >= 1");
@@ -100,29 +155,55 @@ int runTrain(const TrainCliOptions& o) {
       t.message(line);
     }
   };
-  t.onCheckpoint = [&](int64_t step) { monitorStep(step, false); };
+  t.onCheckpoint = [&](int64_t step) {
+    if (root)
+      monitorStep(step, false);
+  };
   training::Trainer trainer(config.get(), t);
   running = &trainer;
-  monitor.begin(o.resume ? trainer.startStep() : -1);
-  bar = std::make_unique<ProgressBar>("train", trainer.totalSteps(), trainer.startStep());
+  if (root) {
+    monitor.begin(o.resume ? trainer.startStep() : -1);
+    bar = std::make_unique<ProgressBar>("train", trainer.totalSteps(), trainer.startStep());
+  }
   const training::Trainer::RunResult result = trainer.run();
   // A finished run is validated at its last step too (an interrupted one exits at once).
-  if (!result.interrupted && monitor.validating() && monitor.lastValidated() != result.steps)
+  if (root && !result.interrupted && monitor.validating() &&
+      monitor.lastValidated() != result.steps)
     monitorStep(result.steps, true);
-  bar->finish();
-  const int sig = stopSignal();
+  if (bar)
+    bar->finish();
+  const AgreedSignal agreed = agreedSignal(comm);
+  const int sig = agreed.signal;
+  if (!root)
+    return sig != 0 ? 128 + sig : 0;
   const std::string averaged =
       trainer.average() ? ", moving average " + o.out + "/weights_ema.safetensors" : "";
   std::printf("%s at step %lld of %lld; run folder %s (weights %s/weights.safetensors%s)\n",
               result.interrupted ? "stopped" : "finished", static_cast<long long>(result.steps),
               static_cast<long long>(trainer.totalSteps()), o.out.c_str(), o.out.c_str(),
               averaged.c_str());
+  if (speed.steps > 0 && trainer.samplesPerStep() > 1)
+    std::printf("throughput %.2f samples/s (%d rank(s) x %d sample(s) per step, %.0f ms per step "
+                "over %lld steps after the first); all-reduce %.1f ms per step (%.1f%% of a "
+                "step), whole gradient exchange %.1f ms (%.1f%%)\n",
+                speed.samples * speed.steps * 1000.0 / speed.ms, comm.size(), o.samplesPerRank,
+                speed.ms / speed.steps, static_cast<long long>(speed.steps),
+                speed.allreduceMs / speed.steps, 100.0 * speed.allreduceMs / speed.ms,
+                speed.exchangeMs / speed.steps, 100.0 * speed.exchangeMs / speed.ms);
+  else if (speed.steps > 0)
+    std::printf("throughput %.2f samples/s (1 sample per step, %.0f ms per step over %lld steps "
+                "after the first)\n",
+                speed.steps * 1000.0 / speed.ms, speed.ms / speed.steps,
+                static_cast<long long>(speed.steps));
   std::fflush(stdout);
   if (sig != 0) {
     // Also when the signal came during the final checkpoint of a finished run: the caller
     // (timeout, a shell) asked the command to stop and learns that it did.
-    std::fprintf(stderr, "simpli train: %s received; checkpoint written%s\n",
-                 sig == SIGTERM ? "SIGTERM" : "SIGINT",
+    const std::string where = comm.size() == 1 ? std::string()
+                                               : " on " + std::to_string(agreed.ranks) + " of " +
+                                                     std::to_string(comm.size()) + " ranks";
+    std::fprintf(stderr, "simpli train: %s received%s; checkpoint written%s\n",
+                 sig == SIGTERM ? "SIGTERM" : "SIGINT", where.c_str(),
                  result.interrupted ? ", resume with --resume" : " (the run had finished)");
     return 128 + sig;
   }
@@ -166,6 +247,11 @@ void addTrainCommand(CLI::App& app) {
                   "Steps between validations, checked at checkpoints (default 100)");
   cmd->add_option("--validate-size", opts->validateSize,
                   "Size of the validation images, WIDTHxHEIGHT (default 256x192)");
+  cmd->add_option("--samples-per-rank", opts->samplesPerRank,
+                  "Samples per step on each rank, their gradients averaged (gradient "
+                  "accumulation; one rank with N equals N MPI ranks with 1; default 1)");
+  // Testing only (hidden): the rank that dies after its first step, as a crash would.
+  cmd->add_option("--test-exit-rank", opts->testExitRank)->group("");
   cmd->callback([opts, steps] {
     // -1 is the internal "the config's"; on the command line every negative is wrong.
     if (steps->count() > 0 && opts->steps < 0)

@@ -15,6 +15,8 @@ packages=(
   # OpenCL (PoCL on the CPU), CLBlast and its tuners
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libclblast-dev clblast-utils
+  # MPI (Open MPI, the one ParaView links): mpiexec -n K simpli train / infer (SIMPLI_USE_MPI)
+  libopenmpi-dev openmpi-bin
   # libraries
   libopencv-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libopenblas-dev
   # tests (PyTorch only for the test of scripts/convert_reference_checkpoint.py; tinygltf reads

@@ -124,6 +124,17 @@ std::string writeCheckpoint(const std::string& runDir, const network::ParameterS
     r.setState(data.random);
     state["random"] = r.stateString();
   }
+  if (!data.streams.empty()) {
+    if (data.streams[0] != data.random)
+      fail("writeCheckpoint: sample stream 0 differs from the sampler state");
+    json streams = json::array();
+    for (const TrainRandom::State& s : data.streams) {
+      TrainRandom r;
+      r.setState(s);
+      streams.push_back(r.stateString());
+    }
+    state["sample_streams"] = streams;
+  }
   state["adam_steps"] = data.adam.steps;
   state["param_steps"] = paramSteps;
   state["config"] = data.configJson.empty() ? json() : json::parse(data.configJson);
@@ -212,6 +223,18 @@ CheckpointData readCheckpoint(const std::string& dir, network::ParameterStore& s
   if (!field("random").is_string())
     fail(statePath, ": field \"random\" is not a string");
   data.random = TrainRandom::parseState(field("random").get<std::string>(), statePath);
+  if (state.contains("sample_streams")) {
+    const json& streams = state["sample_streams"];
+    if (!streams.is_array() || streams.empty())
+      fail(statePath, ": field \"sample_streams\" is not a non-empty array");
+    for (const json& s : streams) {
+      if (!s.is_string())
+        fail(statePath, ": field \"sample_streams\" holds ", s.dump(), ", expected a string");
+      data.streams.push_back(TrainRandom::parseState(s.get<std::string>(), statePath));
+    }
+    if (data.streams[0] != data.random)
+      fail(statePath, ": field \"sample_streams\"[0] differs from field \"random\"");
+  }
   if (!field("adam_steps").is_number_integer())
     fail(statePath, ": field \"adam_steps\" is not an integer");
   data.adam.steps = field("adam_steps").get<int64_t>();

@@ -2,6 +2,7 @@
 #include "simpli/model/training/data.h"
 
 #include "simpli/error.h"
+#include "simpli/model/scene/scene_folders.h"
 #include "simpli/model/synthetic/photos.h"
 #include "simpli/model/synthetic/procedural_source.h"
 
@@ -174,28 +175,15 @@ std::unique_ptr<TrainingData> openTrainingData(const std::string& spec, const Da
   if (!fs::is_directory(root))
     fail("training data '", spec, "' is not a folder");
   // A scene folder itself, or a folder of scene folders.
-  bool isScene = true;
-  try {
-    scene::detectSceneFormat(spec);
-  } catch (const Error&) {
-    isScene = false;
-  }
   std::vector<std::string> scenes;
-  if (isScene) {
+  if (scene::isSceneFolder(spec)) {
     scenes.push_back(spec);
   } else {
-    for (const fs::directory_entry& e : fs::directory_iterator(root)) {
-      const std::string name = e.path().filename().string();
-      if (!e.is_directory() || name.empty() || name[0] == '.')
-        continue;
-      try {
-        scene::detectSceneFormat(e.path().string());
-      } catch (const Error& err) {
-        fail("training data '", spec, "': subfolder '", name, "' is not a scene: ", err.what());
-      }
-      scenes.push_back(e.path().string());
+    for (const scene::SceneFolder& s : scene::listSceneFolders(spec)) {
+      if (!s.problem.empty())
+        fail("training data '", spec, "': subfolder '", s.name, "' is not a scene: ", s.problem);
+      scenes.push_back(s.path);
     }
-    std::sort(scenes.begin(), scenes.end());
     if (scenes.empty())
       fail("training data '", spec,
            "' is neither a scene folder nor a folder of scene folders (no subfolders)");

@@ -41,6 +41,22 @@ uint64_t TrainRandom::bits() {
   return result;
 }
 
+void TrainRandom::jump() {
+  // The jump polynomial of xoshiro256** (Blackman & Vigna, xoshiro256starstar.c): the state
+  // after 2^128 calls of bits() as a GF(2) combination of the states along the way.
+  static constexpr uint64_t kJump[] = {0x180ec6d33cfd0abaULL, 0xd5a61266f0c9392cULL,
+                                       0xa9582618e03fc9aaULL, 0x39abdc4529b1661cULL};
+  State next{};
+  for (const uint64_t word : kJump)
+    for (int b = 0; b < 64; ++b) {
+      if (word & (uint64_t(1) << b))
+        for (int i = 0; i < 4; ++i)
+          next[size_t(i)] ^= s_[size_t(i)];
+      bits();
+    }
+  s_ = next;
+}
+
 double TrainRandom::uniform() {
   return double(bits() >> 11) * 0x1.0p-53;
 }

@@ -10,6 +10,7 @@
 #include "simpli/ocl/device.h"
 #include "simpli/ocl/ops_shape.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -70,16 +71,27 @@ ocl::Tensor imagesToTensor(const std::vector<io::Image>& images, ocl::Dtype dtyp
   return ocl::Tensor::fromHost(values, {int64_t(images.size()), 3, H, W}, dtype);
 }
 
-Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : options_(options) {
-  auto say = [&](const std::string& m) {
-    if (options_.message)
-      options_.message(m);
-  };
-  if (options_.runDir.empty())
-    fail("trainer: no run folder given");
+std::vector<TrainRandom::State> sampleStreams(uint64_t seed, int count) {
+  if (count < 1)
+    fail("sampleStreams: ", count, " streams");
+  std::vector<TrainRandom::State> streams;
+  TrainRandom r(samplerSeed(seed));
+  for (int s = 0; s < count; ++s) {
+    if (s > 0)
+      r.jump();
+    streams.push_back(r.state());
+  }
+  return streams;
+}
+
+void Trainer::say(const std::string& message) const {
+  if (options_.message && comm_->isRoot())
+    options_.message(message);
+}
+
+std::optional<std::string> Trainer::openRunFolder(const TrainingConfig* config) {
   const fs::path run(options_.runDir);
   const std::string configPath = (run / "config.json").string();
-  std::optional<std::string> checkpoint;
   if (options_.resume) {
     if (!fs::is_directory(run))
       fail("--resume: run folder '", options_.runDir, "' does not exist");
@@ -100,18 +112,33 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
       config_.steps = config->steps;
       config_.checkpointEvery = config->checkpointEvery;
     }
-    checkpoint = latestCheckpoint(options_.runDir);
-  } else {
-    if (!config)
-      fail("trainer: a new run needs a training config");
-    config_ = *config;
-    if (options_.seed)
-      config_.seed = *options_.seed;
-    std::error_code ec;
-    if (fs::exists(run) && !fs::is_empty(run, ec))
-      fail("run folder '", options_.runDir,
-           "' already exists and is not empty; use --resume to continue it");
+    return latestCheckpoint(options_.runDir);
   }
+  if (!config)
+    fail("trainer: a new run needs a training config");
+  config_ = *config;
+  if (options_.seed)
+    config_.seed = *options_.seed;
+  std::error_code ec;
+  if (fs::exists(run) && !fs::is_empty(run, ec))
+    fail("run folder '", options_.runDir,
+         "' already exists and is not empty; use --resume to continue it");
+  return std::nullopt;
+}
+
+Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : options_(options) {
+  comm_ = options_.communicator ? options_.communicator : &parallel::world();
+  if (options_.runDir.empty())
+    fail("trainer: no run folder given");
+  if (options_.samplesPerRank < 1)
+    fail("trainer: samples per rank ", options_.samplesPerRank, ": must be >= 1");
+  const bool root = comm_->isRoot();
+  const fs::path run(options_.runDir);
+  const std::string configPath = (run / "config.json").string();
+  std::optional<std::string> checkpoint;
+  if (root)
+    checkpoint = openRunFolder(config);
+  shareConfig();
   totalSteps_ = options_.steps >= 0 ? options_.steps : config_.steps;
   checkpointEvery_ =
       options_.checkpointEvery > 0 ? options_.checkpointEvery : config_.checkpointEvery;
@@ -131,47 +158,60 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
     if (options_.resume)
       fail("--init-weights '", options_.initWeights,
            "': a resumed run continues from its own checkpoint; warm-start a new run instead");
-    const network::LoadReport r = network_->parameters().load(options_.initWeights);
-    say("initial weights: " + options_.initWeights + " (" + std::to_string(r.loaded) + " tensors" +
-        (r.unexpected.empty() ? std::string()
-                              : ", " + std::to_string(r.unexpected.size()) + " unused") +
-        ")");
+    if (root) { // the other ranks receive rank 0's weights
+      const network::LoadReport r = network_->parameters().load(options_.initWeights);
+      say("initial weights: " + options_.initWeights + " (" + std::to_string(r.loaded) +
+          " tensors" +
+          (r.unexpected.empty() ? std::string()
+                                : ", " + std::to_string(r.unexpected.size()) + " unused") +
+          ")");
+    }
   }
   generator_ = std::make_unique<generator::Generator>(*network_);
   const OptimizerConfig& o = config_.optimizer;
   adam_ = std::make_unique<ocl::Adam>(network_->parameters().parameters(), o.lr, o.beta1, o.beta2,
                                       o.eps);
   schedule_ = std::make_unique<ocl::ExponentialLr>(o.lr, o.gamma);
-  sampler_ = std::make_unique<Sampler>(config_.sampling, samplerSeed(config_.seed));
-  if (config_.emaDecay > 0)
+  const int streams = samplesPerStep();
+  for (int j = 0; j < options_.samplesPerRank; ++j)
+    samplers_.emplace_back(config_.sampling, samplerSeed(config_.seed));
+  if (streams > 1)
+    exchange_ = std::make_unique<GradientExchange>(adam_->parameters(), lossTermNames().size() + 2);
+  if (config_.emaDecay > 0 && root)
     average_ = std::make_unique<ParameterAverage>(network_->parameters(), config_.emaDecay);
 
-  if (!options_.resume) {
-    std::error_code ec;
-    fs::create_directories(run, ec);
-    if (ec)
-      fail("cannot create run folder '", options_.runDir, "': ", ec.message());
-    const std::string text = toJson(config_);
-    io::writeFileAtomically(configPath, text.data(), text.size());
-  }
-  if (checkpoint) {
-    CheckpointData c = readCheckpoint(*checkpoint, network_->parameters());
-    adam_->importState(c.adam);
-    sampler_->random().setState(c.random);
-    if (average_) {
-      if (c.average.empty())
-        fail(*checkpoint, ": no weights_ema.safetensors, but the run's ema_decay is ",
-             config_.emaDecay);
-      average_->setValues(c.average, *checkpoint + "/weights_ema.safetensors");
+  std::vector<TrainRandom::State> streamStates;
+  if (root) {
+    if (!options_.resume) {
+      std::error_code ec;
+      fs::create_directories(run, ec);
+      if (ec)
+        fail("cannot create run folder '", options_.runDir, "': ", ec.message());
+      const std::string text = toJson(config_);
+      io::writeFileAtomically(configPath, text.data(), text.size());
     }
-    step_ = c.step;
-    say("resumed from " + *checkpoint + " at step " + std::to_string(step_));
-  } else if (options_.resume) {
-    say("no checkpoint in " + options_.runDir + "; starting at step 0");
+    streamStates = sampleStreams(config_.seed, streams);
+    if (checkpoint) {
+      CheckpointData c = readCheckpoint(*checkpoint, network_->parameters());
+      adam_->importState(c.adam);
+      resumeStreams(c, streamStates);
+      if (average_) {
+        if (c.average.empty())
+          fail(*checkpoint, ": no weights_ema.safetensors, but the run's ema_decay is ",
+               config_.emaDecay);
+        average_->setValues(c.average, *checkpoint + "/weights_ema.safetensors");
+      }
+      step_ = c.step;
+      say("resumed from " + *checkpoint + " at step " + std::to_string(step_));
+    } else if (options_.resume) {
+      say("no checkpoint in " + options_.runDir + "; starting at step 0");
+    }
   }
+  shareStartState(streamStates);
   startStep_ = step_;
-  log_ = std::make_unique<TrainLog>((run / "log.csv").string(), logColumns(config_),
-                                    options_.resume ? step_ : -1);
+  if (root)
+    log_ = std::make_unique<TrainLog>((run / "log.csv").string(), logColumns(config_),
+                                      options_.resume ? step_ : -1);
 
   if (!options_.vggPath.empty()) {
     if (vgg_.loaded()) {
@@ -187,14 +227,17 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
   say("data: " + data_->describe() + "; network " + config_.network.name + ", " +
       std::to_string(network_->parameters().count()) + " parameters, " +
       (config_.dtype == ocl::Dtype::F64 ? "f64" : "f32"));
+  if (streams > 1)
+    say("data-parallel: " + std::to_string(comm_->size()) + " rank(s) x " +
+        std::to_string(options_.samplesPerRank) + " sample(s) per step (" + comm_->describe() +
+        "); one all-reduce of " + std::to_string(exchange_->bytes()) + " bytes per step");
 }
 
 Trainer::~Trainer() = default;
 
-StepReport Trainer::trainStep() {
-  const auto t0 = std::chrono::steady_clock::now();
+Trainer::SampleLoss Trainer::sampleLoss(Sampler& sampler) {
   const ocl::Dtype dtype = config_.dtype;
-  const TrainingSample s = sampler_->draw(*data_);
+  const TrainingSample s = sampler.draw(*data_);
   const ocl::Tensor images = imagesToTensor(s.sources, dtype);
   const ocl::Tensor clean = imagesToTensor(s.cleanSources, dtype);
   const ocl::Tensor targets = imagesToTensor(s.targets, dtype);
@@ -226,11 +269,57 @@ StepReport Trainer::trainStep() {
       computeLosses(config_, out, ocl::concat(colours, 0), novelOpacity, targets, clean,
                     vgg_.loaded() ? &vgg_ : nullptr,
                     inverseDepth.defined() ? ocl::concat(depths, 0) : ocl::Tensor(), inverseDepth);
-  StepReport report;
-  report.total = losses.total.item();
+  SampleLoss result;
+  result.total = losses.total.item();
   if (losses.total.hasGradFn())
     losses.total.backward();
+  for (const std::string& t : lossTermNames())
+    result.terms.push_back(losses.value(t));
+  return result;
+}
+
+StepReport Trainer::trainStep() {
+  using Clock = std::chrono::steady_clock;
+  auto msSince = [](Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+  };
+  const auto t0 = Clock::now();
   const std::vector<ocl::Tensor>& params = adam_->parameters();
+  const std::vector<std::string>& names = lossTermNames();
+  StepReport report;
+  report.samples = samplesPerStep();
+  std::vector<double> terms;
+  if (!exchange_) {
+    const SampleLoss l = sampleLoss(samplers_[0]);
+    report.total = l.total;
+    terms = l.terms;
+  } else {
+    // Scalars: the loss terms, the total, and (several ranks) this rank's stop request, which
+    // the sum turns into "some rank asked".
+    const bool ranks = comm_->size() > 1;
+    const bool stop = ranks && options_.stopRequested && options_.stopRequested();
+    double exchangeMs = 0;
+    for (size_t j = 0; j < samplers_.size(); ++j) {
+      SampleLoss l = sampleLoss(samplers_[j]);
+      l.terms.push_back(l.total);
+      l.terms.push_back(j == 0 && stop ? 1.0 : 0.0);
+      const auto te = Clock::now();
+      exchange_->add(params, l.terms);
+      exchangeMs += msSince(te);
+    }
+    const auto te = Clock::now();
+    exchange_->reduce(*comm_);
+    report.allreduceMs = msSince(te);
+    std::vector<double> sums = exchange_->scalars();
+    exchange_->applyMean(params, report.samples);
+    report.exchangeMs = exchangeMs + msSince(te);
+    report.stopAgreed = sums.back() > 0;
+    sums.pop_back();
+    report.total = sums.back() / report.samples;
+    sums.pop_back();
+    for (double v : sums)
+      terms.push_back(v / report.samples);
+  }
   report.gradNorm = ocl::clipGradNorm(params, config_.optimizer.clipGradNorm);
   report.lr = schedule_->lrAt(step_);
   if (std::isfinite(report.gradNorm) && std::isfinite(report.total)) {
@@ -238,32 +327,38 @@ StepReport Trainer::trainStep() {
     adam_->step();
   } else {
     report.skipped = true;
-    if (options_.message)
-      options_.message("step " + std::to_string(step_ + 1) +
-                       ": non-finite loss or gradient; no update made");
+    say("step " + std::to_string(step_ + 1) + ": non-finite loss or gradient; no update made");
   }
   if (average_)
     average_->update(network_->parameters());
   ++step_;
-  for (const std::string& t : lossTermNames())
-    report.terms.emplace_back(t, losses.value(t));
+  for (size_t i = 0; i < names.size(); ++i)
+    report.terms.emplace_back(names[i], terms[i]);
   ocl::Device::current().finish();
-  report.ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  report.ms = msSince(t0);
   report.step = step_;
 
-  std::vector<double> row{double(step_)};
-  for (const std::string& t : loggedTerms(config_))
-    row.push_back(losses.value(t));
-  row.insert(row.end(), {report.total, report.lr, report.gradNorm, report.ms});
-  log_->append(row);
+  if (log_) {
+    const std::vector<std::string> logged = loggedTerms(config_);
+    std::vector<double> row{double(step_)};
+    for (const auto& [name, v] : report.terms)
+      if (std::find(logged.begin(), logged.end(), name) != logged.end())
+        row.push_back(v);
+    row.insert(row.end(), {report.total, report.lr, report.gradNorm, report.ms});
+    log_->append(row);
+  }
   return report;
 }
 
 std::string Trainer::saveCheckpoint() {
+  const std::vector<TrainRandom::State> streams = gatherStreams();
+  if (!comm_->isRoot())
+    return checkpointDir(options_.runDir, step_);
   CheckpointData c;
   c.step = step_;
-  c.random = sampler_->random().state();
+  c.random = streams.at(0);
+  if (streams.size() > 1)
+    c.streams = streams;
   c.adam = adam_->exportState();
   c.configJson = toJson(config_);
   if (average_)
@@ -277,7 +372,8 @@ Trainer::RunResult Trainer::run() {
   int64_t done = 0;
   auto stop = [&] { return options_.stopRequested && options_.stopRequested(); };
   while (step_ < totalSteps_) {
-    if (stop()) {
+    // One rank polls here; several agree on a stop in the step's all-reduce (trainStep).
+    if (comm_->size() == 1 && stop()) {
       result.interrupted = true;
       break;
     }
@@ -289,6 +385,10 @@ Trainer::RunResult Trainer::run() {
       result.interrupted = true;
       return result; // a simulated kill: no checkpoint
     }
+    if (r.stopAgreed) {
+      result.interrupted = step_ < totalSteps_;
+      break; // the checkpoint below
+    }
     if (step_ % checkpointEvery_ == 0) {
       saveCheckpoint();
       saved = step_;
@@ -298,8 +398,7 @@ Trainer::RunResult Trainer::run() {
   }
   if (saved != step_) {
     const std::string dir = saveCheckpoint();
-    if (options_.message)
-      options_.message("checkpoint " + dir);
+    say("checkpoint " + dir);
     if (options_.onCheckpoint)
       options_.onCheckpoint(step_);
   }

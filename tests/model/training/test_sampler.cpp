@@ -116,6 +116,28 @@ TEST(TrainSampler, ReproducibleWithSeedAndResumableState) {
     EXPECT_EQ(a.drawFromScene(scene, 0).sourceFrames, c2.drawFromScene(scene, 0).sourceFrames);
 }
 
+// The jump (2^128 draws ahead) is a GF(2)-linear map of the state that commutes with a draw;
+// the sample streams of data-parallel training are one seed's state jumped 0, 1, 2, ... times.
+TEST(TrainSampler, RandomJumpIsLinearAndCommutesWithDraws) {
+  TrainRandom a(5), b(6);
+  const TrainRandom::State sa = a.state(), sb = b.state();
+  TrainRandom x(0);
+  x.setState({sa[0] ^ sb[0], sa[1] ^ sb[1], sa[2] ^ sb[2], sa[3] ^ sb[3]});
+  a.jump();
+  b.jump();
+  x.jump();
+  for (size_t i = 0; i < 4; ++i)
+    EXPECT_EQ(x.state()[i], a.state()[i] ^ b.state()[i]) << "word " << i;
+  TrainRandom drawFirst(9), jumpFirst(9);
+  drawFirst.bits();
+  drawFirst.jump();
+  jumpFirst.jump();
+  jumpFirst.bits();
+  EXPECT_EQ(drawFirst.state(), jumpFirst.state());
+  TrainRandom plain(9);
+  EXPECT_NE(plain.state(), jumpFirst.state());
+}
+
 TEST(TrainSampler, CropIntrinsicsAnalytic) {
   scene::Camera cam = test::pinholeCamera(192, 128, 0.8, 1.2, 0.51, 0.47);
   const scene::Camera c = cropCamera(cam, 40, 24, 64, 48);

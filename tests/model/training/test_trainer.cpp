@@ -266,6 +266,93 @@ TEST(TrainTrainer, InitWeightsWarmStartANewRun) {
   fs::remove_all(dir);
 }
 
+// The sample streams of data-parallel training: stream 0 is the plain run's sampler, stream s
+// its state jumped s times.
+TEST(TrainTrainer, SampleStreamsStartFromJumpsOfTheSeed) {
+  const std::vector<TrainRandom::State> s = sampleStreams(11, 3);
+  ASSERT_EQ(s.size(), 3u);
+  TrainRandom r(samplerSeed(11));
+  EXPECT_EQ(s[0], r.state());
+  r.jump();
+  EXPECT_EQ(s[1], r.state());
+  r.jump();
+  EXPECT_EQ(s[2], r.state());
+  EXPECT_NE(s[0], s[1]);
+  test::expectError([] { sampleStreams(1, 0); }, {"0 streams"});
+}
+
+// --samples-per-rank L (one rank: gradient accumulation, the single-process twin of L MPI
+// ranks): every step averages L samples from L streams; the checkpoint keeps every stream, so a
+// resume with the same L repeats the uninterrupted run exactly, and a resume with another L
+// says what changes and carries on.
+TEST(TrainTrainer, SamplesPerRankStreamsResume) {
+  deterministicDevice();
+  TrainingConfig cfg = tinyConfig(3, 1);
+  cfg.sampling.maxViews = 2;
+  cfg.sampling.novelViews = 1;
+  const fs::path a = tempRun("streams_full"), b = tempRun("streams_resumed");
+  std::vector<double> full, resumed;
+  {
+    TrainerOptions o = options(a);
+    o.samplesPerRank = 2;
+    o.onStep = [&](const StepReport& r) {
+      EXPECT_EQ(r.samples, 2);
+      EXPECT_GE(r.exchangeMs, 0);
+      full.push_back(r.total);
+    };
+    Trainer t(&cfg, o);
+    EXPECT_EQ(t.samplesPerStep(), 2);
+    t.run();
+  }
+  {
+    TrainerOptions o = options(b);
+    o.samplesPerRank = 2;
+    o.onStep = [&](const StepReport& r) { resumed.push_back(r.total); };
+    o.stopRequested = [&] { return resumed.size() >= 1; }; // stopped after step 1
+    Trainer t(&cfg, o);
+    EXPECT_TRUE(t.run().interrupted);
+  }
+  const std::string state = checkpointDir(b.string(), 1) + "/state.json";
+  std::ifstream in(state);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"sample_streams\""), std::string::npos) << text;
+  {
+    TrainerOptions o = options(b);
+    o.resume = true;
+    o.samplesPerRank = 2;
+    o.onStep = [&](const StepReport& r) { resumed.push_back(r.total); };
+    Trainer t(nullptr, o);
+    EXPECT_EQ(t.startStep(), 1);
+    t.run();
+  }
+  ASSERT_EQ(full.size(), 3u);
+  EXPECT_EQ(full, resumed);
+  network::SimpliNetwork na(cfg.network, cfg.dtype), nb(cfg.network, cfg.dtype);
+  na.parameters().load((a / "weights.safetensors").string());
+  nb.parameters().load((b / "weights.safetensors").string());
+  for (const std::string& n : na.parameters().names())
+    EXPECT_EQ(na.parameters().get(n).toVector(), nb.parameters().get(n).toVector()) << n;
+  // One sample per step: its stream 0 continues, stream 1 is dropped, and it says so.
+  {
+    TrainerOptions o = options(b);
+    o.resume = true;
+    o.steps = 4;
+    std::string said;
+    o.message = [&](const std::string& m) { said += m + "\n"; };
+    Trainer t(nullptr, o);
+    EXPECT_NE(said.find("the checkpoint has 2 sample stream(s), this run has 1"), std::string::npos)
+        << said;
+    EXPECT_NE(said.find("streams 1..1 are dropped"), std::string::npos) << said;
+    t.run();
+    EXPECT_EQ(t.step(), 4);
+  }
+  TrainerOptions bad = options(tempRun("streams_bad"));
+  bad.samplesPerRank = 0;
+  test::expectError([&] { Trainer(&cfg, bad); }, {"samples per rank 0", "must be >= 1"});
+  fs::remove_all(a);
+  fs::remove_all(b);
+}
+
 // Training on one scene at 32 x 48 with a constant learning rate; the held-out views of fixed
 // evaluation samples are scored every `every` steps (printed: the learning curve).
 struct OverfitResult {

@@ -9,7 +9,7 @@
 //       weights.safetensors     network parameters
 //       optimizer.safetensors   Adam moments "m.<param>" / "v.<param>" (F64, exact copies)
 //       weights_ema.safetensors the weights' moving average (F64; with ema_decay > 0 only)
-//       state.json              step, Adam step counts, sampler random state, the config
+//       state.json              step, Adam step counts, sampler random state(s), the config
 // A checkpoint folder is written completely under checkpoints/.tmp-step_NNNNNNNN-<pid> and then
 // renamed into place: the rename is the commit, so a crash at any point leaves every
 // step_NNNNNNNN folder complete. The newest complete folder is the one a resume uses; after a
@@ -26,12 +26,16 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace simpli::training {
 
 struct CheckpointData {
   int64_t step = 0;            ///< optimiser steps done (= the LR schedule's step)
-  TrainRandom::State random{}; ///< the sampler's state after those steps
+  TrainRandom::State random{}; ///< the sampler's state after those steps (stream 0)
+  /// Data-parallel runs: every sample stream's state, in stream order (streams[0] == random);
+  /// empty for a run with one stream. state.json field "sample_streams".
+  std::vector<TrainRandom::State> streams;
   ocl::Adam::State adam;
   std::string configJson; ///< toJson(config) of the run
   /// The weights' moving average by parameter name (training/average.h); empty = none.

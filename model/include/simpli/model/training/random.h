@@ -25,6 +25,11 @@ public:
   int64_t uniformInt(int64_t lo, int64_t hi);
   bool chance(double p) { return uniform() < p; }
 
+  /// Advances the state by 2^128 draws (the generator's published jump polynomial): streams
+  /// made by jumping one seed's state 0, 1, 2, ... times never overlap (sample streams of
+  /// data-parallel training, trainer.h).
+  void jump();
+
   const State& state() const { return s_; }
   /// Throws simpli::Error for the all-zero state (xoshiro's one fixed point).
   void setState(const State& state);

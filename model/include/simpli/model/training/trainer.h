@@ -11,12 +11,28 @@
 // config.json. A resumed run repeats exactly the computation of an uninterrupted one: the
 // weights, Adam moments and step counts, the LR step and the sampler's random state are all
 // restored, and nothing else carries state between steps. (Whether the float results are then
-// bit-identical depends on the device: see tests/model/training/test_train_resume.cpp.)
+// bit-identical depends on the device: see tests/model/training/test_trainer.cpp.)
+//
+// Data-parallel (docs/parallel.md): with K ranks (parallel/communicator.h, e.g. `mpiexec -n K
+// simpli train`) and L samples per rank, every step draws K x L samples from K x L sample
+// streams, stream s = rank * L + j being the sampler seed's random state jumped s times
+// (TrainRandom::jump, 2^128 draws apart: streams never overlap; stream 0 is the one stream of a
+// plain run, so K = L = 1 is exactly the serial trainer). Each rank runs its L samples' forward
+// and backward passes, their gradients (with the loss terms and the stop flag) are summed in one
+// all-reduce (training/gradient_exchange.h) and divided by K x L, and every rank then makes the
+// same clipped Adam step. So K ranks with L = 1 equal one rank with L = K, up to the order of the
+// MPI library's additions (exactly with two ranks and a deterministic device). Rank 0 alone owns
+// the run folder: it checks and creates it, reads config.json and the checkpoint, writes the log
+// and the checkpoints; the config, the weights, the Adam state and the streams' states go from
+// it to the other ranks at the start. A stop request (stopRequested on any rank) is agreed in
+// the step's all-reduce: that step completes on every rank, then all stop after one checkpoint.
 #include "simpli/model/generator/generator.h"
 #include "simpli/model/network/network.h"
+#include "simpli/model/parallel/communicator.h"
 #include "simpli/model/training/average.h"
 #include "simpli/model/training/config.h"
 #include "simpli/model/training/data.h"
+#include "simpli/model/training/gradient_exchange.h"
 #include "simpli/model/training/log.h"
 #include "simpli/model/training/sampler.h"
 #include "simpli/model/training/vgg.h"
@@ -32,11 +48,18 @@
 
 namespace simpli::training {
 
+struct CheckpointData;
+
 struct StepReport {
   int64_t step = 0; ///< 1-based: the number of optimiser steps done after this one
   std::vector<std::pair<std::string, double>> terms; ///< every lossTermNames() term (NaN: off)
   double total = 0, lr = 0, gradNorm = 0, ms = 0;
   bool skipped = false; ///< non-finite gradients: no update was made
+  int samples = 1;      ///< samples averaged in this step (ranks x samples per rank)
+  /// With more than one sample: the all-reduce (which includes waiting for the slowest rank)
+  /// and the whole exchange (gradient downloads, all-reduce, uploads), ms.
+  double allreduceMs = 0, exchangeMs = 0;
+  bool stopAgreed = false; ///< several ranks: some rank asked to stop during this step
 };
 
 struct TrainerOptions {
@@ -51,7 +74,8 @@ struct TrainerOptions {
   std::string initWeights;
   DataOptions dataOptions;
   std::optional<uint64_t> seed; ///< overrides the config's seed (a new run only)
-  /// Polled between steps; true stops the run after a checkpoint.
+  /// Polled between steps (one rank) or at each step's all-reduce (several ranks, agreed);
+  /// true stops the run after a checkpoint.
   std::function<bool()> stopRequested;
   std::function<void(const StepReport&)> onStep;
   /// After every checkpoint, with the step it holds (validation, progress pictures).
@@ -60,6 +84,12 @@ struct TrainerOptions {
   /// Testing: after this many steps of this process the loop stops without a checkpoint
   /// (simulates a kill); -1 = never.
   int64_t crashAfterSteps = -1;
+  /// The ranks that train together; null = parallel::world(). Every rank constructs its
+  /// Trainer with the same options and calls run() (or the same trainStep / saveCheckpoint
+  /// sequence): they are collective.
+  parallel::Communicator* communicator = nullptr;
+  /// Samples each rank draws and averages per step (gradient accumulation), >= 1.
+  int samplesPerRank = 1;
 };
 
 class Trainer {
@@ -74,13 +104,17 @@ public:
   int64_t startStep() const { return startStep_; }
   const TrainingConfig& config() const { return config_; }
   network::SimpliNetwork& network() { return *network_; }
-  /// The weights' moving average; null when ema_decay is 0.
+  /// The weights' moving average; null when ema_decay is 0, and on ranks other than 0.
   const ParameterAverage* average() const { return average_.get(); }
+  /// Samples averaged per step: ranks x samples per rank (= sample streams).
+  int samplesPerStep() const { return comm_->size() * options_.samplesPerRank; }
+  parallel::Communicator& communicator() const { return *comm_; }
   const std::string& runDir() const { return options_.runDir; }
 
-  /// One optimiser step on a freshly drawn sample.
+  /// One optimiser step on freshly drawn samples (collective).
   StepReport trainStep();
-  /// Writes a checkpoint of the current state; returns its folder.
+  /// Writes a checkpoint of the current state (collective: rank 0 writes it with every rank's
+  /// stream states); returns its folder.
   std::string saveCheckpoint();
 
   struct RunResult {
@@ -92,6 +126,27 @@ public:
   RunResult run();
 
 private:
+  /// Rank 0: the run's config and folder (checked, created); returns the checkpoint to resume.
+  std::optional<std::string> openRunFolder(const TrainingConfig* config);
+  /// Rank 0's config on every rank (trainer_ranks.cpp).
+  void shareConfig();
+  /// Rank 0's weights, Adam state, step and every stream's state on every rank; each keeps its
+  /// own streams (trainer_ranks.cpp).
+  void shareStartState(const std::vector<TrainRandom::State>& streams);
+  /// Every rank's stream states on rank 0, in stream order (trainer_ranks.cpp).
+  std::vector<TrainRandom::State> gatherStreams();
+  /// The checkpoint's stream states into `streams` (this run's fresh ones); says what happens
+  /// when the checkpoint has another number of streams (trainer_ranks.cpp).
+  void resumeStreams(const CheckpointData& checkpoint, std::vector<TrainRandom::State>& streams);
+  /// The loss terms of one sample, its backward pass done (gradients accumulated).
+  struct SampleLoss {
+    std::vector<double> terms; ///< lossTermNames() order, NaN = off
+    double total = 0;
+  };
+  SampleLoss sampleLoss(Sampler& sampler);
+  void say(const std::string& message) const;
+
+  parallel::Communicator* comm_ = nullptr;
   TrainingConfig config_;
   TrainerOptions options_;
   std::unique_ptr<TrainingData> data_;
@@ -99,7 +154,8 @@ private:
   std::unique_ptr<generator::Generator> generator_;
   std::unique_ptr<ocl::Adam> adam_;
   std::unique_ptr<ocl::ExponentialLr> schedule_;
-  std::unique_ptr<Sampler> sampler_;
+  std::vector<Sampler> samplers_;              ///< this rank's streams rank * L .. rank * L + L - 1
+  std::unique_ptr<GradientExchange> exchange_; ///< with more than one sample per step
   std::unique_ptr<ParameterAverage> average_;
   std::unique_ptr<TrainLog> log_;
   Vgg19Features vgg_;
@@ -116,5 +172,9 @@ ocl::Tensor inverseDepthTensor(const std::vector<std::vector<float>>& depths, in
 
 /// The sampler seed of a run seeded with `seed` (distinct from the network's initialisation).
 uint64_t samplerSeed(uint64_t seed);
+
+/// The initial states of sample streams 0 .. count - 1 of a run seeded with `seed`: stream 0 is
+/// TrainRandom(samplerSeed(seed)), stream s is it jumped s times.
+std::vector<TrainRandom::State> sampleStreams(uint64_t seed, int count);
 
 } // namespace simpli::training
