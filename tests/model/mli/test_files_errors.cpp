@@ -10,6 +10,7 @@
 
 #include "mli_test_util.h"
 #include "simpli/model/mli/files.h"
+#include "support/captured_warnings.h"
 
 namespace simpli::test {
 namespace {
@@ -163,6 +164,24 @@ TEST_F(MLIReadErrors, MissingLayerFile) {
 TEST_F(MLIReadErrors, UndecodableLayerFile) {
   writeText(scene() / "layer_depth_02.jpg", "definitely not a JPEG");
   expectReadError({(scene() / "layer_depth_02.jpg").string(), "not a readable image"});
+}
+
+// A cut layer file is a named error before libjpeg decodes it (which would only warn and
+// render the missing rows grey); the same for the lossless form's TIFFs.
+TEST_F(MLIReadErrors, TruncatedLayerFiles) {
+  const fs::path layer = scene() / "layer_alpha_01.jpg";
+  const std::string bytes = readText(layer);
+  for (const size_t keep : {bytes.size() / 2, bytes.size() - 2}) {
+    writeText(layer, bytes.substr(0, keep));
+    expectReadError({layer.string(), "truncated", "before the end-of-image marker"});
+  }
+  TempDir dir;
+  const fs::path lossless = dir / "lossless";
+  mli::writeMLI(lossless.string(), smoothMLI(2, 16, 24), mli::MLIFormat::Lossless);
+  const fs::path rgba = lossless / "layer_rgba_01.tiff";
+  const std::string tiff = readText(rgba);
+  writeText(rgba, tiff.substr(0, tiff.size() / 2));
+  expectError([&] { mli::readMLI(lossless.string()); }, {rgba.string(), "truncated", "TIFF"});
 }
 
 TEST_F(MLIReadErrors, LayerImagesOfMismatchedSizes) {
