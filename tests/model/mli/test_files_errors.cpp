@@ -184,6 +184,35 @@ TEST_F(MLIReadErrors, TruncatedLayerFiles) {
   expectError([&] { mli::readMLI(lossless.string()); }, {rgba.string(), "truncated", "TIFF"});
 }
 
+// A focal length no pinhole camera has (fx = 1e-30 rendered black) is an error; a valid but
+// extreme one is read with a warning naming the file, the field and the value.
+TEST_F(MLIReadErrors, DegenerateCamera) {
+  json m = meta();
+  m["intrinsics_re"][0] = 1e-30;
+  setMeta(m);
+  expectReadError({metaFile(), "focal length fx = 1e-30", "outside [0.001, 1000]"});
+  m = meta();
+  m["intrinsics_re"][4] = 1e300;
+  setMeta(m);
+  expectReadError({metaFile(), "focal length fy = 1e+300"});
+  {
+    m = meta();
+    m["intrinsics_re"][0] = 0.05;
+    setMeta(m);
+    CapturedWarnings warnings;
+    EXPECT_EQ(mli::readMLI(scene().string()).numLayers(), 3);
+    EXPECT_EQ(warnings.count({"meta.json", "\"intrinsics_re\" fx = 0.05", "result will be poor"}),
+              1)
+        << warnings.text();
+  }
+  {
+    setMeta(meta());
+    CapturedWarnings warnings;
+    mli::readMLI(scene().string());
+    EXPECT_TRUE(warnings.messages().empty()) << warnings.text();
+  }
+}
+
 TEST_F(MLIReadErrors, LayerImagesOfMismatchedSizes) {
   cv::imwrite((scene() / "layer_depth_01.jpg").string(), cv::Mat(16, 20, CV_8UC1, cv::Scalar(9)));
   expectReadError({(scene() / "layer_depth_01.jpg").string(), "image is 20 x 16 (W x H)",

@@ -34,7 +34,7 @@ struct SceneSource {
 /// down-sampled from h x w, which is how LLFF's images_4 etc. relate to the stored h, w).
 /// Images: sorted png/jpg/jpeg files (case-insensitive) in <root>/<imagesDir or "images">; their
 /// count must equal N. near = min over views, far = max over views; each view's near must be
-/// > 0 and its far > near.
+/// > 0 and its far > near; h and w must round to a size of at least one pixel.
 SceneSource readLlffSource(const std::string& root, const std::string& imagesDir = "");
 
 /// COLMAP text model (cameras.txt, images.txt, optional points3D.txt) in <root>/sparse/0,
@@ -68,8 +68,8 @@ std::string chooseImageFolder(const std::string& root, int factor, int preferred
 /// the folder does not exist.
 std::vector<std::string> listImageFiles(const std::string& folder);
 
-/// Checks a pose: finite R, t and intrinsics, positive focal lengths, max |R^T R - I| <=
-/// kRotationTolerance and det R > 0. Errors name `file` and `view`.
+/// Checks a pose read from a scene file: scene::validateCamera (scene/camera_checks.h) with
+/// kRotationTolerance. Errors name `file` and `view`.
 void checkCamera(const Camera& camera, const std::string& file, const std::string& view);
 
 /// Depths (camera z) of the points in front of the camera that project inside the image.
