@@ -6,6 +6,7 @@
 
 #include "simpli/error.h"
 #include "simpli/ocl/device.h"
+#include "simpli/warning.h"
 
 #include <algorithm>
 #include <exception>
@@ -35,6 +36,14 @@ bool Progress::aborted() const {
 int runRequest(vtkAlgorithm* algorithm, const std::string& what,
                const std::function<void(const Progress&)>& body,
                const std::function<void()>& onFailure) {
+  // The model's warnings (simpli/warning.h) during the request go to the algorithm's
+  // vtkWarningMacro, where ParaView shows them, instead of stderr.
+  struct ForwardWarnings {
+    simpli::WarningHandler previous;
+    ~ForwardWarnings() { simpli::setWarningHandler(std::move(previous)); }
+  } forward{simpli::setWarningHandler([algorithm, what](const std::string& message) {
+    vtkWarningWithObjectMacro(algorithm, << what << ": " << message);
+  })};
   try {
     body(Progress(algorithm));
     return 1;

@@ -48,7 +48,8 @@ private:
 /// Runs `body`, a request's work, and returns the request's result: 1 when it returns (also
 /// when it stopped early because the user aborted), 0 when it throws. A simpli::Error becomes
 /// vtkErrorMacro "<what>: <message>", any other exception "<what>: unexpected failure:
-/// <message>"; `onFailure` (e.g. emptying the outputs) runs before 0 is returned.
+/// <message>"; `onFailure` (e.g. emptying the outputs) runs before 0 is returned. Warnings
+/// (simpli/warning.h) raised by `body` become vtkWarningMacro "<what>: <message>".
 int runRequest(vtkAlgorithm* algorithm, const std::string& what,
                const std::function<void(const Progress&)>& body,
                const std::function<void()>& onFailure = {});

@@ -1,6 +1,8 @@
 // Writes the small scenes the command-line tests run on (tests/apps/CMakeLists.txt):
 //   <dir>/llff, <dir>/colmap, <dir>/re10k            valid scenes, 3 views of 48 x 32
 //   <dir>/bad_npy, <dir>/bad_rotation, <dir>/distorted  bad input
+//   <dir>/extreme_bounds, <dir>/truncated_image          degenerate or cut input
+//   <dir>/re10k_missing (two of five images missing, no URL line)
 #include "support/scene_fixtures.h"
 
 #include "simpli/model/io/npy.h"
@@ -44,6 +46,24 @@ int main(int argc, char** argv) {
     test::writeText((out / "distorted" / "sparse" / "0" / "cameras.txt").string(),
                     "1 OPENCV 48 32 48 48 24 16 0.1 0 0 0\n2 PINHOLE 48 32 48 48 24 16\n"
                     "3 PINHOLE 48 32 48 48 24 16\n");
+
+    // Valid but poor: near..far 1e-4..1e6 (a warning, not an error).
+    test::writeLlffScene((out / "extreme_bounds").string(), rig, 1e-4, 1e6);
+
+    // A scene image cut in half: a named error, not a grey-padded decode.
+    test::writeLlffScene((out / "truncated_image").string(), rig, 2.0, 50.0);
+    const std::string image = (out / "truncated_image" / "images" / "img_01.png").string();
+    const std::string bytes = test::readText(image);
+    test::writeText(image, bytes.substr(0, bytes.size() / 2));
+
+    // RealEstate10K file starting with a frame (no URL line), two images missing.
+    const fs::path missing = out / "re10k_missing";
+    test::writeRealEstateScene(missing.string(), test::makeRig(5));
+    const std::string cameras = (missing / "re10k_missing.txt").string();
+    const std::string text = test::readText(cameras);
+    test::writeText(cameras, text.substr(text.find('\n') + 1));
+    fs::remove(missing / "2000.png");
+    fs::remove(missing / "4000.png");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "write_test_scenes: %s\n", e.what());
     return 1;

@@ -6,6 +6,7 @@
 #include "vtkMLIWriter.h"
 
 #include <vtkCellArray.h>
+#include <vtkCommand.h>
 #include <vtkCompositeDataSet.h>
 #include <vtkDataAssembly.h>
 #include <vtkDoubleArray.h>
@@ -438,6 +439,23 @@ TEST_F(MLIReaderErrors, MissingOrBrokenLayerFile) {
   expectFailure(dir_ / "scene", {"layer_rgba_01.tiff"});
   writeText(dir_.path() / "scene/layer_rgba_01.tiff", "not a tiff");
   expectFailure(dir_ / "scene", {"layer_rgba_01.tiff"});
+}
+
+// The model's warnings (a valid but extreme focal length) reach the reader's WarningEvent, where
+// ParaView shows them, and the request still succeeds.
+TEST_F(MLIReaderErrors, WarningsBecomeVtkWarnings) {
+  mli::MLI m = randomMLI(2, 4, 5, 7);
+  m.camera.fx = 0.05;
+  mli::writeMLI(dir_ / "wide", m, mli::MLIFormat::Lossless);
+  vtkNew<vtkMLIReader> reader;
+  reader->SetFileName((dir_ / "wide").c_str());
+  vtkNew<ErrorRecorder> warnings, errors;
+  reader->AddObserver(vtkCommand::WarningEvent, warnings);
+  EXPECT_EQ(runWithErrors(reader, errors), 1);
+  EXPECT_TRUE(errors->messages.empty()) << errors->all();
+  EXPECT_TRUE(warnings->has({"meta.json", "\"intrinsics_re\" fx = 0.05", "result will be poor"}))
+      << warnings->all();
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfPartitionedDataSets(), 2u);
 }
 
 class MLIWriterErrors : public ::testing::Test {

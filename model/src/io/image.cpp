@@ -1,8 +1,8 @@
 #include "simpli/model/io/image.h"
 
+#include "io/image_decode.h"
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
-#include "simpli/model/io/image_header.h"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -46,73 +46,11 @@ cv::Mat toInterleaved(const Image& image) {
   return rgb;
 }
 
-// libjpeg decodes a truncated JPEG with only a warning (the missing rows come out grey), so a
-// partially downloaded file would pass as an image. Walk the marker structure instead: a
-// complete file reaches the end-of-image marker (FFD9) before its bytes run out. Anything else
-// unusual is left for the decoder to judge; bytes after FFD9 are allowed (some cameras append
-// data there).
-bool jpegIsTruncated(const std::vector<unsigned char>& b) {
-  const size_t n = b.size();
-  if (n < 2 || b[0] != 0xFF || b[1] != 0xD8)
-    return false; // not a JPEG
-  size_t pos = 2;
-  while (true) {
-    if (pos >= n)
-      return true;
-    if (b[pos] != 0xFF)
-      return false;                   // unexpected structure: let the decoder decide
-    while (pos < n && b[pos] == 0xFF) // fill bytes
-      ++pos;
-    if (pos >= n)
-      return true;
-    const unsigned char marker = b[pos++];
-    if (marker == 0xD9)
-      return false; // end of image
-    if ((marker >= 0xD0 && marker <= 0xD7) || marker == 0x01)
-      continue; // markers without a length
-    if (pos + 2 > n)
-      return true;
-    const size_t length = size_t(b[pos]) << 8 | b[pos + 1];
-    if (length < 2)
-      return false;
-    if (pos + length > n)
-      return true;
-    pos += length;
-    if (marker == 0xDA) { // start of scan: entropy-coded data up to the next real marker
-      while (true) {
-        if (pos + 1 >= n)
-          return true;
-        if (b[pos] == 0xFF && b[pos + 1] != 0x00 && !(b[pos + 1] >= 0xD0 && b[pos + 1] <= 0xD7) &&
-            b[pos + 1] != 0xFF)
-          break;
-        ++pos;
-      }
-    }
-  }
-}
-
 } // namespace
 
 Image readImage(const std::string& path, int sizeMultiple, ImageSize* originalSize) {
-  const std::vector<unsigned char> bytes = readFileBytes(path, "image file");
-  if (bytes.empty())
-    fail("image file '", path, "' is empty");
-  // The declared size before anything is decoded (io/image_header.h).
-  if (const auto header = parseImageHeader(bytes.data(), bytes.size());
-      header && header->width * header->height > kMaxImagePixels)
-    fail("image file '", path, "': its ", header->format, " header declares ", header->width, " x ",
-         header->height, " pixels, more than the limit of ", kMaxImagePixels,
-         " (8192 x 8192) that keeps a corrupt header from exhausting memory");
-  cv::Mat raw;
-  try {
-    raw = cv::imdecode(bytes, cv::IMREAD_UNCHANGED | cv::IMREAD_IGNORE_ORIENTATION);
-  } catch (const cv::Exception& e) {
-    fail("cannot decode image file '", path, "': ", e.what());
-  }
-  if (raw.empty())
-    fail("cannot decode image file '", path, "' (corrupt or not a PNG/JPEG image)");
-  if (jpegIsTruncated(bytes))
-    fail("image file '", path, "' is truncated (JPEG data ends before the end-of-image marker)");
+  const cv::Mat raw =
+      decodeImageFile(path, cv::IMREAD_UNCHANGED | cv::IMREAD_IGNORE_ORIENTATION, "image file");
 
   double scale = 0;
   switch (raw.depth()) {

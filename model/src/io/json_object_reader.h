@@ -4,6 +4,7 @@
 // read (typos) are errors at finish(). Required fields are read with the value-returning
 // methods; optional ones with the read*() methods, which leave the default in place when the
 // key is absent.
+#include "io/json_text.h"
 #include "simpli/error.h"
 
 #include <nlohmann/json.hpp>
@@ -16,12 +17,6 @@
 #include <vector>
 
 namespace simpli::io {
-
-/// A value for an error message, cut to 60 characters.
-inline std::string jsonExcerpt(const nlohmann::json& value) {
-  std::string s = value.dump();
-  return s.size() > 60 ? s.substr(0, 57) + "..." : s;
-}
 
 class JsonObjectReader {
 public:

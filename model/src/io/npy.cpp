@@ -1,5 +1,6 @@
 #include "simpli/model/io/npy.h"
 
+#include "io/excerpt.h"
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
 
@@ -36,7 +37,8 @@ public:
       } else if (key == "shape") {
         shape = parseTuple();
       } else {
-        fail(path_, ": .npy header has unexpected key '", key, "' (header: ", s_, ")");
+        fail(path_, ": .npy header has unexpected key '", excerpt(key), "' (header: ", excerpt(s_),
+             ")");
       }
       skipSpace();
       if (peek() == ',') {
@@ -51,11 +53,11 @@ public:
     if (i_ != s_.size())
       bad("end of header");
     if (!descr)
-      fail(path_, ": .npy header has no 'descr' (header: ", s_, ")");
+      fail(path_, ": .npy header has no 'descr' (header: ", excerpt(s_), ")");
     if (!fortranOrder)
-      fail(path_, ": .npy header has no 'fortran_order' (header: ", s_, ")");
+      fail(path_, ": .npy header has no 'fortran_order' (header: ", excerpt(s_), ")");
     if (!shape)
-      fail(path_, ": .npy header has no 'shape' (header: ", s_, ")");
+      fail(path_, ": .npy header has no 'shape' (header: ", excerpt(s_), ")");
   }
 
   std::optional<std::string> descr;
@@ -70,7 +72,7 @@ private:
   }
   [[noreturn]] void bad(const char* expected) const {
     fail(path_, ": malformed .npy header: expected ", expected, " at character ", i_,
-         " (header: ", s_, ")");
+         " (header: ", excerpt(s_), ")");
   }
   void expect(char c) {
     skipSpace();
@@ -114,7 +116,8 @@ private:
       while (std::isdigit(static_cast<unsigned char>(peek()))) {
         const size_t digit = size_t(peek() - '0');
         if (value > (std::numeric_limits<size_t>::max() - digit) / 10)
-          fail(path_, ": .npy header 'shape' has a dimension too large (header: ", s_, ")");
+          fail(path_, ": .npy header 'shape' has a dimension too large (header: ", excerpt(s_),
+               ")");
         value = value * 10 + digit;
         ++i_;
       }
@@ -194,7 +197,7 @@ NpyArray parseNpy(const unsigned char* bytes, size_t size, const std::string& pa
   else if (array.descr == "<f4")
     itemSize = 4;
   else
-    fail(path, ": .npy 'descr' is '", array.descr,
+    fail(path, ": .npy 'descr' is '", excerpt(array.descr),
          "'; only little-endian float64 ('<f8') and float32 ('<f4') are supported");
 
   const size_t dataStart = headerStart + headerLength;

@@ -1,5 +1,6 @@
 #include "simpli/model/io/safetensors.h"
 
+#include "io/json_text.h"
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
 
@@ -92,12 +93,7 @@ SafeTensorsReader::SafeTensorsReader(const std::string& path) : path_(path) {
   dataStart_ = 8 + headerSize;
   const uint64_t dataSize = fileSize - dataStart_;
 
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(header);
-  } catch (const nlohmann::json::exception& e) {
-    fail("safetensors file '", path, "': header is not valid JSON: ", e.what());
-  }
+  const nlohmann::json json = parseJson(header, "safetensors file '" + path + "': header");
   if (!json.is_object())
     fail("safetensors file '", path, "': header is not a JSON object");
 
@@ -117,7 +113,7 @@ SafeTensorsReader::SafeTensorsReader(const std::string& path) : path_(path) {
     }
     auto bad = [&](const char* field, const nlohmann::json& value) {
       fail("safetensors file '", path, "', tensor '", key, "': invalid '", field, "' ",
-           value.dump());
+           jsonExcerpt(value));
     };
     if (!entry.is_object())
       bad("entry", entry);

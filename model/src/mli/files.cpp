@@ -8,6 +8,8 @@
 #include "mli/files_internal.h"
 #include "simpli/error.h"
 #include "simpli/model/io/staged_folder.h"
+#include "simpli/model/scene/camera_checks.h"
+#include "simpli/warning.h"
 
 namespace simpli::mli {
 
@@ -25,6 +27,8 @@ MLIFormat detectMLIFormat(const std::string& path) {
 
 MLI readMLI(const std::string& path, const MLIReadOptions& options) {
   const mli::Meta meta = mli::readMeta(path);
+  for (const scene::CameraConcern& c : scene::cameraConcerns(meta.camera))
+    warn(path, "/meta.json: \"intrinsics_re\" ", c.field, " = ", c.value, ": ", c.why);
   const mli::fs::path folder(path);
   // Every layer file is there and of the right size before memory for the layers is taken.
   for (const std::string& name : mliFileNames(meta.format, static_cast<int>(meta.ranges.size())))

@@ -1,6 +1,7 @@
 // Checked image-file reads and writes for the MLI folder formats (see mli/files_internal.h).
 #include <opencv2/imgcodecs.hpp>
 
+#include "io/image_decode.h"
 #include "mli/files_internal.h"
 #include "simpli/error.h"
 #include "simpli/model/io/image_header.h"
@@ -22,14 +23,7 @@ void checkLayerFile(const fs::path& file, int H, int W) {
 cv::Mat readLayerImage(const fs::path& file, int imreadFlags, int H, int W) {
   const std::string name = file.string();
   checkLayerFile(file, H, W);
-  cv::Mat image;
-  try {
-    image = cv::imread(name, imreadFlags);
-  } catch (const cv::Exception& e) {
-    fail(name, ": cannot be decoded (", e.what(), ")");
-  }
-  if (image.empty())
-    fail(name, ": not a readable image");
+  const cv::Mat image = io::decodeImageFile(name, imreadFlags, "layer file");
   if (image.rows != H || image.cols != W)
     fail(name, ": image is ", image.cols, " x ", image.rows, " (W x H) but meta.json frame_size",
          " is [H, W] = [", H, ", ", W, "]");

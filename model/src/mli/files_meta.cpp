@@ -8,8 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/json_text.h"
 #include "mli/files_internal.h"
 #include "simpli/error.h"
+#include "simpli/model/io/files.h"
 
 namespace simpli::mli {
 
@@ -17,13 +19,7 @@ namespace {
 
 using json = nlohmann::json;
 
-// JSON excerpts in messages are cut so a huge wrong value does not flood the terminal.
-std::string excerpt(const json& value) {
-  std::string s = value.dump();
-  if (s.size() > 60)
-    s = s.substr(0, 57) + "...";
-  return s;
-}
+using io::jsonExcerpt;
 
 const json& requireKey(const json& root, const std::string& key, const std::string& file) {
   auto it = root.find(key);
@@ -37,14 +33,14 @@ std::vector<double> numbers(const json& root, const std::string& key, std::size_
                             const std::string& file) {
   const json& value = requireKey(root, key, file);
   if (!value.is_array())
-    fail(file, ": \"", key, "\" is ", excerpt(value), ", expected an array of ", n, " numbers");
+    fail(file, ": \"", key, "\" is ", jsonExcerpt(value), ", expected an array of ", n, " numbers");
   if (value.size() != n)
     fail(file, ": \"", key, "\" has ", value.size(), " values, expected ", n);
   std::vector<double> out;
   for (std::size_t i = 0; i < n; ++i) {
     const json& e = value[i];
     if (!e.is_number())
-      fail(file, ": \"", key, "\"[", i, "] is ", excerpt(e), ", expected a number");
+      fail(file, ": \"", key, "\"[", i, "] is ", jsonExcerpt(e), ", expected a number");
     const double d = e.get<double>();
     if (!std::isfinite(d))
       fail(file, ": \"", key, "\"[", i, "] = ", d, " is not finite");
@@ -58,10 +54,10 @@ std::vector<double> numbers(const json& root, const std::string& key, std::size_
 int integerIn(const json& e, const std::string& what, double lo, double hi,
               const std::string& file) {
   if (!e.is_number())
-    fail(file, ": ", what, " is ", excerpt(e), ", expected an integer");
+    fail(file, ": ", what, " is ", jsonExcerpt(e), ", expected an integer");
   const double d = e.get<double>();
   if (!(d >= lo && d <= hi) || std::floor(d) != d)
-    fail(file, ": ", what, " = ", excerpt(e), ", expected an integer in [", lo, ", ", hi, "]");
+    fail(file, ": ", what, " = ", jsonExcerpt(e), ", expected an integer in [", lo, ", ", hi, "]");
   return static_cast<int>(d);
 }
 
@@ -119,26 +115,17 @@ Meta readMeta(const fs::path& folder) {
   if (!fs::is_regular_file(path, ec))
     fail(file, ": missing (not an MLI folder)");
 
-  json root;
-  {
-    std::ifstream in(path, std::ios::binary);
-    if (!in)
-      fail(file, ": cannot be opened");
-    try {
-      root = json::parse(in);
-    } catch (const json::exception& e) {
-      fail(file, ": not valid JSON (", e.what(), ")");
-    }
-  }
+  const std::vector<unsigned char> bytes = io::readFileBytes(file, "MLI meta.json");
+  const json root = io::parseJson(std::string(bytes.begin(), bytes.end()), file);
   if (!root.is_object())
-    fail(file, ": expected a JSON object, found ", excerpt(root));
+    fail(file, ": expected a JSON object, found ", jsonExcerpt(root));
 
   Meta meta;
   if (auto it = root.find(kWrittenByKey); it != root.end())
     meta.writtenBySimpli = it->is_string() && it->get<std::string>() == kWrittenByValue;
   if (auto it = root.find("format"); it != root.end()) {
     if (!it->is_string() || it->get<std::string>() != kLosslessFormatTag)
-      fail(file, ": \"format\" is ", excerpt(*it), ", expected \"", kLosslessFormatTag,
+      fail(file, ": \"format\" is ", jsonExcerpt(*it), ", expected \"", kLosslessFormatTag,
            "\" (or no \"format\" key for the JPEG form)");
     meta.format = MLIFormat::Lossless;
   }
@@ -147,7 +134,7 @@ Meta readMeta(const fs::path& folder) {
   // into a huge allocation.
   const json& size = requireKey(root, "frame_size", file);
   if (!size.is_array() || size.size() != 2)
-    fail(file, ": \"frame_size\" is ", excerpt(size), ", expected [H, W]");
+    fail(file, ": \"frame_size\" is ", jsonExcerpt(size), ", expected [H, W]");
   meta.height = integerIn(size[0], "\"frame_size\"[0] (H)", 2, 65535, file);
   meta.width = integerIn(size[1], "\"frame_size\"[1] (W)", 2, 65535, file);
 

@@ -5,9 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/LU>
-
 #include "simpli/error.h"
+#include "simpli/model/scene/camera_checks.h"
 
 namespace simpli::mli {
 
@@ -25,22 +24,7 @@ std::size_t texelCount(int H, int W) {
 } // namespace
 
 void validateMLICamera(const scene::Camera& c, const std::string& context) {
-  const double intr[4] = {c.fx, c.fy, c.cx, c.cy};
-  const char* names[4] = {"fx", "fy", "cx", "cy"};
-  for (int n = 0; n < 4; ++n)
-    if (!std::isfinite(intr[n]))
-      fail(context, ": camera ", names[n], " = ", intr[n], " is not finite");
-  if (c.fx <= 0 || c.fy <= 0)
-    fail(context, ": camera focal lengths (fx, fy) = (", c.fx, ", ", c.fy, ") must be > 0");
-  if (!c.R.allFinite())
-    fail(context, ": camera rotation R has non-finite entries");
-  if (!c.t.allFinite())
-    fail(context, ": camera translation t = (", c.t.transpose(), ") is not finite");
-  const double orth = (c.R * c.R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  if (orth > kRotationTolerance)
-    fail(context, ": camera R is not a rotation (max |R R^T - I| = ", orth, ")");
-  if (c.R.determinant() <= 0)
-    fail(context, ": camera R has determinant ", c.R.determinant(), " (a reflection)");
+  scene::validateCamera(c, context + ": camera", kRotationTolerance);
 }
 
 void validateMLIDepth(const std::vector<float>& depth, int H, int W, const std::string& context) {

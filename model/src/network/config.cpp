@@ -144,12 +144,7 @@ void NetworkConfig::validate(const std::string& source) const {
 }
 
 NetworkConfig parseNetworkConfig(const std::string& jsonText, const std::string& source) {
-  json root;
-  try {
-    root = json::parse(jsonText);
-  } catch (const json::exception& e) {
-    fail(source, ": not valid JSON (", e.what(), ")");
-  }
+  const json root = io::parseJson(jsonText, source);
   io::JsonObjectReader r(root, source, "");
   NetworkConfig c;
   c.name = r.string("name");

@@ -61,6 +61,14 @@ ocl::Tensor ParameterStore::add(const std::string& name, const ocl::Shape& shape
     fail("ParameterStore: parameter \"", name, "\" is registered twice");
   if (shape.empty() || std::any_of(shape.begin(), shape.end(), [](int64_t d) { return d <= 0; }))
     fail("ParameterStore: parameter \"", name, "\" has invalid shape ", ocl::toString(shape));
+  double numel = 1; // in double: four dimensions of 65536 overflow int64
+  for (int64_t d : shape)
+    numel *= static_cast<double>(d);
+  if (numel + static_cast<double>(count()) > static_cast<double>(kMaxParameters))
+    fail("ParameterStore: parameter \"", name, "\" of shape ", ocl::toString(shape),
+         " would bring the network to more than the limit of ", kMaxParameters,
+         " parameters (kMaxParameters, 1 GiB in float32; the reference's 4-layer network has "
+         "1,879,343): the network config's channel counts are too large");
   if (init.kind == InitKind::FanInUniform && init.fanIn <= 0)
     fail("ParameterStore: parameter \"", name, "\" has fan-in ", init.fanIn);
   Entry entry;

@@ -52,7 +52,7 @@ std::map<long long, ColmapCamera> readCameras(const std::string& path) {
     const auto f = splitFields(lines[ln]);
     if (f.size() < 4)
       fail(path, " line ", lineNo, ": expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS..., got '",
-           lines[ln], "'");
+           lineExcerpt(lines[ln]), "'");
     const long long id = parseInteger(f[0], path, lineNo, "CAMERA_ID");
     const std::string& model = f[1];
     ColmapCamera cam;
@@ -79,8 +79,8 @@ std::map<long long, ColmapCamera> readCameras(const std::string& path) {
            "image_undistorter --image_path <images> --input_path <sparse model> --output_path "
            "<out>` and read <out> instead");
     } else {
-      fail(path, " line ", lineNo, ": camera ", id, " has unknown camera model '", model,
-           "' (supported: PINHOLE, SIMPLE_PINHOLE)");
+      fail(path, " line ", lineNo, ": camera ", id, " has unknown camera model '",
+           lineExcerpt(model), "' (supported: PINHOLE, SIMPLE_PINHOLE)");
     }
     if (params.size() != expected)
       fail(path, " line ", lineNo, ": camera ", id, " (", model, ") has ", params.size(),
@@ -111,7 +111,8 @@ std::vector<Eigen::Vector3d> readPoints(const std::string& path) {
       continue;
     const auto f = splitFields(lines[ln]);
     if (f.size() < 4)
-      fail(path, " line ", ln + 1, ": expected POINT3D_ID X Y Z ..., got '", lines[ln], "'");
+      fail(path, " line ", ln + 1, ": expected POINT3D_ID X Y Z ..., got '", lineExcerpt(lines[ln]),
+           "'");
     points.emplace_back(parseFinite(f[1], path, ln + 1, "X"), parseFinite(f[2], path, ln + 1, "Y"),
                         parseFinite(f[3], path, ln + 1, "Z"));
   }
@@ -119,10 +120,104 @@ std::vector<Eigen::Vector3d> readPoints(const std::string& path) {
 }
 
 struct ImageEntry {
+  long long id = 0;
   std::string name;
   Camera camera;
   size_t line = 0;
 };
+
+// A POINTS2D line: X Y POINT3D_ID triplets (POINT3D_ID -1 for none), or nothing at all.
+bool isPoints2DLine(const std::vector<std::string>& f) {
+  if (f.size() % 3 != 0)
+    return false;
+  for (size_t k = 0; k < f.size(); ++k)
+    if (!(k % 3 == 2 ? isIntegerToken(f[k]) : isNumberToken(f[k])))
+      return false;
+  return true;
+}
+
+// IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME; errors name the line and the field.
+ImageEntry parsePoseLine(const std::string& line, const std::string& path, size_t lineNo,
+                         const std::map<long long, ColmapCamera>& cameras,
+                         const std::string& camerasPath) {
+  const auto f = splitFields(line);
+  if (f.size() < 10)
+    fail(path, " line ", lineNo,
+         ": expected a pose line IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME (10 fields) or a "
+         "POINTS2D line (X Y POINT3D_ID triplets), got ",
+         f.size(), " field(s): '", lineExcerpt(line), "'");
+  ImageEntry e;
+  e.line = lineNo;
+  e.id = parseInteger(f[0], path, lineNo, "IMAGE_ID");
+  const char* qnames[4] = {"QW", "QX", "QY", "QZ"};
+  double q[4];
+  for (int k = 0; k < 4; ++k)
+    q[k] = parseFinite(f[size_t(1 + k)], path, lineNo, qnames[k]);
+  const char* tnames[3] = {"TX", "TY", "TZ"};
+  Eigen::Vector3d t;
+  for (int k = 0; k < 3; ++k)
+    t[k] = parseFinite(f[size_t(5 + k)], path, lineNo, tnames[k]);
+  const long long camId = parseInteger(f[8], path, lineNo, "CAMERA_ID");
+  // NAME is the rest of the line (it may contain spaces).
+  e.name = restAfterFields(line, 9);
+
+  const double qnorm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (std::abs(qnorm - 1.0) > kRotationTolerance)
+    fail(path, " line ", lineNo, ": view '", lineExcerpt(e.name), "': quaternion (", q[0], ", ",
+         q[1], ", ", q[2], ", ", q[3], ") has norm ", qnorm, ", not a rotation (tolerance ",
+         kRotationTolerance, ")");
+  const auto camIt = cameras.find(camId);
+  if (camIt == cameras.end())
+    fail(path, " line ", lineNo, ": view '", lineExcerpt(e.name), "': CAMERA_ID ", camId,
+         " is not in ", camerasPath);
+  const ColmapCamera& cc = camIt->second;
+  e.camera.R = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+  e.camera.t = t;
+  e.camera.fx = cc.fx / cc.width;
+  e.camera.fy = cc.fy / cc.height;
+  e.camera.cx = cc.cx / cc.width;
+  e.camera.cy = cc.cy / cc.height;
+  e.camera.width = cc.width;
+  e.camera.height = cc.height;
+  checkCamera(e.camera, path,
+              "'" + lineExcerpt(e.name) + "' (line " + std::to_string(lineNo) + ")");
+  return e;
+}
+
+// images.txt: per image a pose line, then a POINTS2D line. The POINTS2D line may be empty, and
+// some tools write none at all, so a line is told by its shape, not by its position: after a
+// pose line, a blank line or X Y POINT3D_ID triplets are its POINTS2D, anything else is the
+// next pose line (and is parsed as one, so a malformed line gets an error naming its field).
+std::vector<ImageEntry> readImageEntries(const std::string& path,
+                                         const std::map<long long, ColmapCamera>& cameras,
+                                         const std::string& camerasPath) {
+  const auto lines = readLines(path, "COLMAP images file");
+  std::vector<ImageEntry> entries;
+  std::map<long long, size_t> lineOfId;
+  bool afterPose = false;
+  for (size_t ln = 0; ln < lines.size(); ++ln) {
+    const std::string& line = lines[ln];
+    const size_t first = line.find_first_not_of(" \t");
+    if (first != std::string::npos && line[first] == '#')
+      continue;
+    const auto f = splitFields(line);
+    if (afterPose && isPoints2DLine(f)) {
+      afterPose = false;
+      continue;
+    }
+    if (f.empty())
+      continue;
+    entries.push_back(parsePoseLine(line, path, ln + 1, cameras, camerasPath));
+    const auto [it, fresh] = lineOfId.emplace(entries.back().id, ln + 1);
+    if (!fresh)
+      fail(path, " line ", ln + 1, ": IMAGE_ID ", entries.back().id, " appears twice (also line ",
+           it->second, ")");
+    afterPose = true;
+  }
+  if (entries.empty())
+    fail(path, ": no images");
+  return entries;
+}
 
 } // namespace
 
@@ -141,63 +236,13 @@ SceneSource readColmapSource(const std::string& root, const std::string& imagesD
   if (!fs::is_directory(imageFolder, ec))
     fail("image folder '", imageFolder, "' does not exist");
 
-  // images.txt holds two lines per image: the pose line and a POINTS2D line that may be
-  // empty, so blank lines are only skipped where a pose line is expected.
-  const auto lines = readLines(imagesPath, "COLMAP images file");
-  std::vector<ImageEntry> entries;
-  for (size_t ln = 0; ln < lines.size(); ++ln) {
-    if (isCommentOrBlank(lines[ln]))
-      continue;
-    const size_t lineNo = ln + 1;
-    const auto f = splitFields(lines[ln]);
-    if (f.size() < 10)
-      fail(imagesPath, " line ", lineNo,
-           ": expected IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME, got '", lines[ln], "'");
-    const char* qnames[4] = {"QW", "QX", "QY", "QZ"};
-    double q[4];
-    for (int k = 0; k < 4; ++k)
-      q[k] = parseFinite(f[size_t(1 + k)], imagesPath, lineNo, qnames[k]);
-    const char* tnames[3] = {"TX", "TY", "TZ"};
-    Eigen::Vector3d t;
-    for (int k = 0; k < 3; ++k)
-      t[k] = parseFinite(f[size_t(5 + k)], imagesPath, lineNo, tnames[k]);
-    const long long camId = parseInteger(f[8], imagesPath, lineNo, "CAMERA_ID");
-    // NAME is the rest of the line (it may contain spaces).
-    const std::string name = restAfterFields(lines[ln], 9);
-
-    const double qnorm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (std::abs(qnorm - 1.0) > kRotationTolerance)
-      fail(imagesPath, " line ", lineNo, ": view '", name, "': quaternion (", q[0], ", ", q[1],
-           ", ", q[2], ", ", q[3], ") has norm ", qnorm, ", not a rotation (tolerance ",
-           kRotationTolerance, ")");
-    const auto camIt = cameras.find(camId);
-    if (camIt == cameras.end())
-      fail(imagesPath, " line ", lineNo, ": view '", name, "': CAMERA_ID ", camId, " is not in ",
-           camerasPath);
-    const ColmapCamera& cc = camIt->second;
-
-    ImageEntry e;
-    e.name = name;
-    e.line = lineNo;
-    e.camera.R = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
-    e.camera.t = t;
-    e.camera.fx = cc.fx / cc.width;
-    e.camera.fy = cc.fy / cc.height;
-    e.camera.cx = cc.cx / cc.width;
-    e.camera.cy = cc.cy / cc.height;
-    e.camera.width = cc.width;
-    e.camera.height = cc.height;
-    checkCamera(e.camera, imagesPath, "'" + name + "' (line " + std::to_string(lineNo) + ")");
-    entries.push_back(e);
-    ++ln; // the POINTS2D line (may be empty or absent at the end of the file)
-  }
-  if (entries.empty())
-    fail(imagesPath, ": no images");
+  std::vector<ImageEntry> entries = readImageEntries(imagesPath, cameras, camerasPath);
   std::sort(entries.begin(), entries.end(),
             [](const ImageEntry& a, const ImageEntry& b) { return a.name < b.name; });
   for (size_t i = 1; i < entries.size(); ++i)
     if (entries[i].name == entries[i - 1].name)
-      fail(imagesPath, " line ", entries[i].line, ": image '", entries[i].name, "' appears twice");
+      fail(imagesPath, " line ", entries[i].line, ": image '", lineExcerpt(entries[i].name),
+           "' appears twice");
 
   SceneSource src;
   src.format = SceneFormat::Colmap;
@@ -206,8 +251,8 @@ SceneSource readColmapSource(const std::string& root, const std::string& imagesD
   for (const ImageEntry& e : entries) {
     const fs::path imagePath = fs::path(imageFolder) / e.name;
     if (!fs::is_regular_file(imagePath, ec))
-      fail(imagesPath, " line ", e.line, ": image '", e.name, "' not found at '",
-           imagePath.string(), "'");
+      fail(imagesPath, " line ", e.line, ": image '", lineExcerpt(e.name), "' not found at '",
+           io::excerpt(imagePath.string(), 400), "'");
     src.names.push_back(e.name);
     src.imagePaths.push_back(imagePath.string());
     src.cameras.push_back(e.camera);

@@ -11,6 +11,11 @@ namespace fs = std::filesystem;
 
 namespace simpli::scene {
 
+namespace {
+// LLFF's h and w are the size of the images the poses were computed for (COLMAP's limit).
+constexpr double kMaxDeclaredSize = 1000000;
+} // namespace
+
 SceneSource readLlffSource(const std::string& root, const std::string& imagesDir) {
   std::error_code ec;
   if (!fs::is_directory(root, ec))
@@ -59,6 +64,12 @@ SceneSource readLlffSource(const std::string& root, const std::string& imagesDir
     if (!(h > 0) || !(w > 0) || !(focal > 0))
       fail(file, ": view ", view, ": (h, w, focal) = (", h, ", ", w, ", ", focal,
            ") must be positive");
+    // The declared size is the one the focal length is in pixels of; it must be a size (a value
+    // below 0.5 rounds to 0 pixels).
+    if (h < 0.5 || w < 0.5 || h > kMaxDeclaredSize || w > kMaxDeclaredSize)
+      fail(file, ": view ", view, ": declared image size (h, w) = (", h, ", ", w,
+           ") is not an image size (expected 0.5 .. ", kMaxDeclaredSize,
+           ", rounded to whole pixels)");
     Camera cam;
     cam.R = c2w.transpose();
     cam.t = -cam.R * centre;

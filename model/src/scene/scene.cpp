@@ -2,7 +2,9 @@
 #include "simpli/model/scene/scene.h"
 
 #include "simpli/error.h"
+#include "simpli/model/scene/camera_checks.h"
 #include "simpli/model/scene/readers.h"
+#include "simpli/warning.h"
 
 #include <algorithm>
 #include <cctype>
@@ -146,6 +148,56 @@ void checkDeclaredSize(const SceneSource& src, size_t i, int width, int height) 
          " (a different aspect ratio, so not a down-sampled copy)");
 }
 
+// One warning per camera field for what cameraConcerns finds, naming the first view with it
+// and how many views share it (a scene's views usually share their intrinsics).
+void warnAboutCameras(const SceneSource& src) {
+  struct Seen {
+    CameraConcern concern;
+    std::string view;
+    size_t views = 0;
+  };
+  std::vector<Seen> seen;
+  for (size_t i = 0; i < src.cameras.size(); ++i) {
+    for (const CameraConcern& c : cameraConcerns(src.cameras[i])) {
+      auto it = std::find_if(seen.begin(), seen.end(),
+                             [&](const Seen& s) { return s.concern.field == c.field; });
+      if (it == seen.end())
+        seen.push_back({c, src.names[i], 1});
+      else
+        ++it->views;
+    }
+  }
+  for (const Seen& s : seen)
+    warn(src.posesFile, ": view '", s.view, "'",
+         s.views > 1 ? " (and " + std::to_string(s.views - 1) + " more)" : std::string(), ": ",
+         s.concern.field, " = ", s.concern.value, ": ", s.concern.why);
+}
+
+// The network's planes span depths kDefaultNear..kDefaultFar (a ratio of 100) once the scene is
+// scaled; bounds whose ratio is far beyond that put most of the scene on the farthest planes.
+void warnAboutBounds(const std::string& file, double nearB, double farB,
+                     const std::string& source) {
+  const double ratio = farB / nearB;
+  if (ratio > kMaxGoodDepthRatio)
+    warn(file, ": near..far bounds ", nearB, "..", farB, " (", source, ") span a depth ratio of ",
+         ratio, ", more than ", kMaxGoodDepthRatio, ": the network's planes span depths ",
+         kDefaultNear, "..", kDefaultFar, " after the near bound is scaled to ", kDefaultNear,
+         ", so most of the scene lands on the farthest planes and the result will be poor "
+         "(a near bound far below the scene's content?)");
+}
+
+// Views that all share one centre show no parallax: the plane sweep cannot tell depths apart.
+void warnAboutBaseline(const SceneSource& src, double nearB) {
+  if (src.cameras.size() < 2)
+    return;
+  const double baseline = maxBaseline(src.cameras);
+  if (!(baseline > kMinGoodBaseline * nearB))
+    warn(src.posesFile, ": the ", src.cameras.size(), " views' camera centres lie within ",
+         baseline, " of each other (near bound ", nearB,
+         "): without parallax between the views the depth of the scene cannot be inferred, so "
+         "the result will be poor");
+}
+
 } // namespace
 
 Scene readScene(const std::string& path, const SceneReadOptions& options) {
@@ -207,6 +259,9 @@ Scene readScene(const std::string& path, const SceneReadOptions& options) {
     fail("near bound ", nearB, " (", source, ") must be > 0");
   if (!(farB > nearB))
     fail("far bound ", farB, " must be > near bound ", nearB, " (", source, ")");
+  warnAboutCameras(src);
+  warnAboutBounds(src.posesFile, nearB, farB, source);
+  warnAboutBaseline(src, nearB);
 
   std::vector<double> depths;
   for (const Camera& c : src.cameras) {

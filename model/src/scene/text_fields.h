@@ -1,6 +1,7 @@
 #pragma once
 // Line-oriented text parsing for the camera files (COLMAP, RealEstate10K): whitespace-separated
 // fields, numbers parsed locale-independently, errors naming file, line, field and value.
+#include "io/excerpt.h"
 #include "simpli/error.h"
 
 #include <charconv>
@@ -19,6 +20,12 @@ inline std::vector<std::string> splitFields(const std::string& line) {
   while (is >> f)
     fields.push_back(f);
   return fields;
+}
+
+/// A line or field for an error message (io/excerpt.h): cut to 80 characters, control
+/// characters shown as '?'.
+inline std::string lineExcerpt(const std::string& line) {
+  return io::excerpt(line, 80);
 }
 
 /// All lines of a text file (CR stripped), or an error naming the file.
@@ -48,7 +55,7 @@ inline double parseFinite(const std::string& token, const std::string& path, siz
     ++begin;
   const auto [ptr, ec] = std::from_chars(begin, end, value);
   if (ec != std::errc() || ptr != end)
-    fail(path, " line ", line, ": field ", field, " = '", token, "' is not a number");
+    fail(path, " line ", line, ": field ", field, " = '", lineExcerpt(token), "' is not a number");
   if (!std::isfinite(value))
     fail(path, " line ", line, ": field ", field, " = ", token, " is not finite");
   return value;
@@ -59,7 +66,8 @@ inline long long parseInteger(const std::string& token, const std::string& path,
   long long value = 0;
   const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
   if (ec != std::errc() || ptr != token.data() + token.size())
-    fail(path, " line ", line, ": field ", field, " = '", token, "' is not an integer");
+    fail(path, " line ", line, ": field ", field, " = '", lineExcerpt(token),
+         "' is not an integer");
   return value;
 }
 
@@ -80,6 +88,24 @@ inline std::string restAfterFields(const std::string& line, size_t n) {
     return {};
   const size_t last = line.find_last_not_of(" \t");
   return line.substr(first, last - first + 1);
+}
+
+/// True when `token` is a whole number (from_chars syntax, optional leading '+'), no error.
+inline bool isNumberToken(const std::string& token) {
+  double value = 0;
+  const char* begin = token.data();
+  const char* end = begin + token.size();
+  if (begin != end && *begin == '+')
+    ++begin;
+  const auto [ptr, ec] = std::from_chars(begin, end, value);
+  return ec == std::errc() && ptr == end && begin != end;
+}
+
+/// True when `token` is a whole integer, no error.
+inline bool isIntegerToken(const std::string& token) {
+  long long value = 0;
+  const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  return ec == std::errc() && ptr == token.data() + token.size() && !token.empty();
 }
 
 inline bool isCommentOrBlank(const std::string& line) {

@@ -1,6 +1,7 @@
 // Atomic training checkpoints (training/checkpoint.h).
 #include "simpli/model/training/checkpoint.h"
 
+#include "io/json_text.h"
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
 #include "simpli/model/io/safetensors.h"
@@ -200,25 +201,22 @@ CheckpointData readCheckpoint(const std::string& dir, network::ParameterStore& s
   const fs::path root(dir);
   const std::string statePath = (root / "state.json").string();
   const std::vector<unsigned char> bytes = io::readFileBytes(statePath, "checkpoint state");
-  json state;
-  try {
-    state = json::parse(bytes.begin(), bytes.end());
-  } catch (const json::exception& e) {
-    fail(statePath, ": not valid JSON: ", e.what());
-  }
+  const json state = io::parseJson(std::string(bytes.begin(), bytes.end()), statePath);
   auto field = [&](const char* key) -> const json& {
     if (!state.is_object() || !state.contains(key))
       fail(statePath, ": missing field \"", key, "\"");
     return state[key];
   };
   if (field("format") != kFormat)
-    fail(statePath, ": field \"format\" is ", field("format").dump(), ", expected \"", kFormat,
-         "\"");
+    fail(statePath, ": field \"format\" is ", io::jsonExcerpt(field("format")), ", expected \"",
+         kFormat, "\"");
   if (field("version") != kVersion)
-    fail(statePath, ": field \"version\" is ", field("version").dump(), ", expected ", kVersion);
+    fail(statePath, ": field \"version\" is ", io::jsonExcerpt(field("version")), ", expected ",
+         kVersion);
   CheckpointData data;
   if (!field("step").is_number_integer() || field("step").get<int64_t>() < 0)
-    fail(statePath, ": field \"step\" is ", field("step").dump(), ", expected an integer >= 0");
+    fail(statePath, ": field \"step\" is ", io::jsonExcerpt(field("step")),
+         ", expected an integer >= 0");
   data.step = field("step").get<int64_t>();
   if (!field("random").is_string())
     fail(statePath, ": field \"random\" is not a string");

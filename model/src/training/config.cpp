@@ -184,12 +184,7 @@ void TrainingConfig::validate(const std::string& source) const {
 
 TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::string& source,
                                    const std::string& baseDir) {
-  json root;
-  try {
-    root = json::parse(jsonText);
-  } catch (const json::exception& e) {
-    fail(source, ": not valid JSON: ", e.what());
-  }
+  const json root = io::parseJson(jsonText, source);
   TrainingConfig c;
   io::JsonObjectReader top(root, source, "");
   const json* net = top.find("network");
@@ -317,12 +312,7 @@ std::string firstIncompatibleField(const TrainingConfig& a, const TrainingConfig
 network::NetworkConfig loadNetworkOrTrainingConfig(const std::string& path) {
   const std::vector<unsigned char> bytes = io::readFileBytes(path, "config");
   const std::string text(bytes.begin(), bytes.end());
-  json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::exception& e) {
-    fail(path, ": not valid JSON: ", e.what());
-  }
+  const json root = io::parseJson(text, path);
   if (root.is_object() && root.contains("network"))
     return parseTrainingConfig(text, path, fs::path(path).parent_path().string()).network;
   return network::parseNetworkConfig(text, path);

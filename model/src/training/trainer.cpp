@@ -5,6 +5,7 @@
 #include "simpli/model/io/files.h"
 #include "simpli/model/training/checkpoint.h"
 #include "simpli/model/training/losses.h"
+#include "simpli/warning.h"
 
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/device.h"
@@ -151,8 +152,13 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
     dataOptions.configSource = configPath;
   data_ = openTrainingData(options_.data, dataOptions);
   data_->scene(0); // reads (and checks) the first scene
-  if (!options_.vggPath.empty() && config_.weight("perceptual") > 0)
-    vgg_ = Vgg19Features(options_.vggPath, config_.dtype);
+  if (!options_.vggPath.empty()) {
+    // A file that is not VGG-19 weights is an error even when the loss is off.
+    if (config_.weight("perceptual") > 0)
+      vgg_ = Vgg19Features(options_.vggPath, config_.dtype);
+    else
+      Vgg19Features::check(options_.vggPath);
+  }
   network_ = std::make_unique<network::SimpliNetwork>(config_.network, config_.dtype, config_.seed);
   if (!options_.initWeights.empty()) {
     if (options_.resume)
@@ -218,8 +224,9 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
       say("perceptual loss: VGG-19 from " + options_.vggPath + ", weight " +
           std::to_string(config_.weight("perceptual")));
     } else {
-      say("perceptual loss: off (its weight in the config is 0; " + options_.vggPath +
-          " is not used)");
+      warn("VGG-19 weights ", options_.vggPath,
+           ": the training config's loss_weights.perceptual is 0, so the perceptual loss is off "
+           "and the file is not used (give the term a positive weight to train with it)");
     }
   } else {
     say("perceptual loss: off (no VGG-19 weights given; pass --vgg FILE to enable it)");

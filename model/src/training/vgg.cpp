@@ -22,12 +22,52 @@ constexpr std::array<int, 5> kPoolIdx{4, 9, 18, 27, 36};
 constexpr std::array<double, 3> kMean{0.485, 0.456, 0.406};
 constexpr std::array<double, 3> kStd{0.229, 0.224, 0.225};
 
+std::string convKey(int idx, const char* part) {
+  return "features." + std::to_string(idx) + "." + part;
+}
+
+// Every conv's weight and bias present as F32/F64 with chaining shapes [out, in, 3, 3] and
+// [out]; the error lists every missing key, or names the first wrong shape or dtype. Returns the
+// output widths.
+std::vector<int64_t> checkedWidths(const io::SafeTensorsReader& r) {
+  std::vector<std::string> missing;
+  for (int idx : kConvIdx)
+    for (const char* part : {"weight", "bias"})
+      if (!r.contains(convKey(idx, part)))
+        missing.push_back(convKey(idx, part));
+  if (!missing.empty()) {
+    std::string list;
+    for (size_t k = 0; k < missing.size() && k < 6; ++k)
+      list += (k ? ", " : "") + missing[k];
+    if (missing.size() > 6)
+      list += ", ...";
+    fail(r.path(), ": not VGG-19 weights: ", missing.size(), " of the ", 2 * kConvIdx.size(),
+         " keys of its 16 convolutions are missing (", list,
+         "); expected torchvision's key names features.N.weight / features.N.bias");
+  }
+  std::vector<int64_t> widths;
+  int64_t in = 3;
+  for (int idx : kConvIdx) {
+    const std::string wk = convKey(idx, "weight"), bk = convKey(idx, "bias");
+    for (const std::string& key : {wk, bk}) {
+      const std::string& dtype = r.info(key).dtype;
+      if (dtype != "F32" && dtype != "F64")
+        fail(r.path(), ": key '", key, "' has dtype ", dtype, "; expected F32 or F64");
+    }
+    const std::vector<int64_t> ws = r.info(wk).shape;
+    if (ws.size() != 4 || ws[1] != in || ws[2] != 3 || ws[3] != 3 || ws[0] < 1)
+      fail(r.path(), ": key '", wk, "' has shape ", ocl::toString(ws), "; expected [out, ", in,
+           ", 3, 3]");
+    const std::vector<int64_t> bs = r.info(bk).shape;
+    if (bs.size() != 1 || bs[0] != ws[0])
+      fail(r.path(), ": key '", bk, "' has shape ", ocl::toString(bs), "; expected [", ws[0], "]");
+    widths.push_back(ws[0]);
+    in = ws[0];
+  }
+  return widths;
+}
+
 ocl::Tensor load(const io::SafeTensorsReader& r, const std::string& key, ocl::Dtype dtype) {
-  if (!r.contains(key))
-    fail(r.path(), ": missing key '", key, "' (VGG-19 features; torchvision key names expected)");
-  const io::SafeTensorInfo& info = r.info(key);
-  if (info.dtype != "F32" && info.dtype != "F64")
-    fail(r.path(), ": key '", key, "' has dtype ", info.dtype, "; expected F32 or F64");
   io::HostTensor<double> t = r.readF64(key);
   return ocl::Tensor::fromHost(t.data, t.shape, dtype);
 }
@@ -38,26 +78,16 @@ const std::array<int, 16>& Vgg19Features::convIndices() {
   return kConvIdx;
 }
 
+void Vgg19Features::check(const std::string& path) {
+  checkedWidths(io::SafeTensorsReader(path));
+}
+
 Vgg19Features::Vgg19Features(const std::string& path, ocl::Dtype dtype) : path_(path) {
   const io::SafeTensorsReader r(path);
-  int64_t in = 3;
+  checkedWidths(r);
   for (int idx : kConvIdx) {
-    const std::string wk = "features." + std::to_string(idx) + ".weight";
-    const std::string bk = "features." + std::to_string(idx) + ".bias";
-    if (!r.contains(wk))
-      fail(path, ": missing key '", wk, "' (VGG-19 features; torchvision key names expected)");
-    const std::vector<int64_t> ws = r.info(wk).shape;
-    if (ws.size() != 4 || ws[1] != in || ws[2] != 3 || ws[3] != 3 || ws[0] < 1)
-      fail(path, ": key '", wk, "' has shape ", ocl::toString(ws), "; expected [out, ", in,
-           ", 3, 3]");
-    if (!r.contains(bk))
-      fail(path, ": missing key '", bk, "' (VGG-19 features; torchvision key names expected)");
-    const std::vector<int64_t> bs = r.info(bk).shape;
-    if (bs.size() != 1 || bs[0] != ws[0])
-      fail(path, ": key '", bk, "' has shape ", ocl::toString(bs), "; expected [", ws[0], "]");
-    weights_.push_back(load(r, wk, dtype));
-    biases_.push_back(load(r, bk, dtype));
-    in = ws[0];
+    weights_.push_back(load(r, convKey(idx, "weight"), dtype));
+    biases_.push_back(load(r, convKey(idx, "bias"), dtype));
   }
 }
 

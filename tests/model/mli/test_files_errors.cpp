@@ -10,6 +10,7 @@
 
 #include "mli_test_util.h"
 #include "simpli/model/mli/files.h"
+#include "support/captured_warnings.h"
 
 namespace simpli::test {
 namespace {
@@ -163,6 +164,53 @@ TEST_F(MLIReadErrors, MissingLayerFile) {
 TEST_F(MLIReadErrors, UndecodableLayerFile) {
   writeText(scene() / "layer_depth_02.jpg", "definitely not a JPEG");
   expectReadError({(scene() / "layer_depth_02.jpg").string(), "not a readable image"});
+}
+
+// A cut layer file is a named error before libjpeg decodes it (which would only warn and
+// render the missing rows grey); the same for the lossless form's TIFFs.
+TEST_F(MLIReadErrors, TruncatedLayerFiles) {
+  const fs::path layer = scene() / "layer_alpha_01.jpg";
+  const std::string bytes = readText(layer);
+  for (const size_t keep : {bytes.size() / 2, bytes.size() - 2}) {
+    writeText(layer, bytes.substr(0, keep));
+    expectReadError({layer.string(), "truncated", "before the end-of-image marker"});
+  }
+  TempDir dir;
+  const fs::path lossless = dir / "lossless";
+  mli::writeMLI(lossless.string(), smoothMLI(2, 16, 24), mli::MLIFormat::Lossless);
+  const fs::path rgba = lossless / "layer_rgba_01.tiff";
+  const std::string tiff = readText(rgba);
+  writeText(rgba, tiff.substr(0, tiff.size() / 2));
+  expectError([&] { mli::readMLI(lossless.string()); }, {rgba.string(), "truncated", "TIFF"});
+}
+
+// A focal length no pinhole camera has (fx = 1e-30 rendered black) is an error; a valid but
+// extreme one is read with a warning naming the file, the field and the value.
+TEST_F(MLIReadErrors, DegenerateCamera) {
+  json m = meta();
+  m["intrinsics_re"][0] = 1e-30;
+  setMeta(m);
+  expectReadError({metaFile(), "focal length fx = 1e-30", "outside [0.001, 1000]"});
+  m = meta();
+  m["intrinsics_re"][4] = 1e300;
+  setMeta(m);
+  expectReadError({metaFile(), "focal length fy = 1e+300"});
+  {
+    m = meta();
+    m["intrinsics_re"][0] = 0.05;
+    setMeta(m);
+    CapturedWarnings warnings;
+    EXPECT_EQ(mli::readMLI(scene().string()).numLayers(), 3);
+    EXPECT_EQ(warnings.count({"meta.json", "\"intrinsics_re\" fx = 0.05", "result will be poor"}),
+              1)
+        << warnings.text();
+  }
+  {
+    setMeta(meta());
+    CapturedWarnings warnings;
+    mli::readMLI(scene().string());
+    EXPECT_TRUE(warnings.messages().empty()) << warnings.text();
+  }
 }
 
 TEST_F(MLIReadErrors, LayerImagesOfMismatchedSizes) {

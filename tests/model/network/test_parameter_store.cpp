@@ -4,6 +4,7 @@
 
 #include "simpli/model/io/safetensors.h"
 #include "simpli/model/network/layers.h"
+#include "simpli/model/network/network.h"
 #include "simpli/model/network/parameter_store.h"
 
 #include <gtest/gtest.h>
@@ -53,6 +54,19 @@ TEST(NetParameterStore, RegistrationAndCount) {
   expectError([&] { s.add("", {4}, {}); }, {"empty"});
   expectError([&] { s.add("d", {4}, {InitKind::FanInUniform, 0}); }, {"\"d\"", "fan-in"});
   expectError([&] { s.get("nope"); }, {"nope"});
+  // A config's huge channel counts are refused before anything is allocated.
+  expectError(
+      [&] {
+        s.add("huge", {65536, 65536, 65536, 65536}, {});
+      },
+      {"\"huge\"", "[65536, 65536, 65536, 65536]", "kMaxParameters"});
+  EXPECT_FALSE(s.contains("huge"));
+  // Also through a config: 65536 channels everywhere would be tens of billions of weights.
+  NetworkConfig big = officialConfig(4);
+  for (BlockDims& b : big.sampiLvl0.blocks)
+    b = {65536, 65536};
+  expectError([&] { SimpliNetwork(big, ocl::Dtype::F32, 0); },
+              {"sampi_block_lvl0", "kMaxParameters"});
 }
 
 TEST(NetParameterStore, PyTorchDefaultInitialisation) {

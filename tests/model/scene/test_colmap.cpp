@@ -6,10 +6,14 @@
 #include "simpli/model/scene/readers.h"
 #include "simpli/model/scene/scene.h"
 
+#include <Eigen/Geometry>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <functional>
+#include <iomanip>
 #include <sstream>
 
 using namespace simpli;
@@ -204,4 +208,91 @@ TEST_F(ColmapScene, BinaryModelAndMissingParts) {
   test::writeText(model("images.txt"), "# nothing\n");
   fs::create_directories(root + "/images");
   expectError([&] { scene::readScene(root); }, {"images.txt", "no images"});
+}
+
+namespace {
+
+// images.txt for `rig` (IMAGE_ID k + 10, CAMERA_ID k + 1, NAME view_k.png), in name order;
+// `points2D(k)` is the POINTS2D line written after image k, or "-" for none at all.
+std::string imagesText(const std::vector<scene::Camera>& rig,
+                       const std::function<std::string(size_t)>& points2D) {
+  std::ostringstream os;
+  os << std::setprecision(17) << "# Image list\n#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, ...\n";
+  for (size_t k = 0; k < rig.size(); ++k) {
+    const Eigen::Quaterniond q(rig[k].R);
+    os << k + 10 << ' ' << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' '
+       << rig[k].t.x() << ' ' << rig[k].t.y() << ' ' << rig[k].t.z() << ' ' << k + 1 << " view_"
+       << k << ".png\n";
+    const std::string p = points2D(k);
+    if (p != "-")
+      os << p << '\n';
+  }
+  return os.str();
+}
+
+} // namespace
+
+// Some tools write images.txt without POINTS2D lines; every pose line is still a view (the
+// reader once took every second line as a POINTS2D line and read 6 of 12 views).
+TEST_F(ColmapScene, ImagesWithoutPoints2DLines) {
+  const std::vector<scene::Camera> twelve = test::makeRig(12);
+  test::writeColmapScene(root, twelve, points);
+  test::writeText(model("images.txt"), imagesText(twelve, [](size_t) { return "-"; }));
+  scene::SceneSource src = scene::readColmapSource(root);
+  ASSERT_EQ(src.cameras.size(), 12u);
+  for (size_t k = 0; k < 12; ++k) { // sorted by name: view_0, view_1, view_10, ...
+    const size_t index = std::stoul(src.names[k].substr(5));
+    EXPECT_LT((src.cameras[k].R - twelve.at(index).R).cwiseAbs().maxCoeff(), 1e-9) << index;
+  }
+  // Mixed: POINTS2D lines present, empty, absent, and absent at the end; comments between.
+  test::writeText(model("images.txt"), imagesText(twelve, [](size_t k) -> std::string {
+                    switch (k % 4) {
+                    case 0:
+                      return "12.5 3.5 1 40.0 7.25 -1";
+                    case 1:
+                      return "";
+                    case 2:
+                      return "# a comment where a POINTS2D line could be";
+                    default:
+                      return "-";
+                    }
+                  }));
+  src = scene::readColmapSource(root);
+  ASSERT_EQ(src.cameras.size(), 12u);
+  std::vector<std::string> names = src.names;
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(std::unique(names.begin(), names.end()), names.end());
+  EXPECT_EQ(scene::readScene(root).size(), 12u);
+  // Windows line ends.
+  std::string crlf;
+  for (char c : imagesText(twelve, [](size_t) { return "1 2 -1"; }))
+    crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  test::writeText(model("images.txt"), crlf);
+  EXPECT_EQ(scene::readColmapSource(root).cameras.size(), 12u);
+}
+
+// A line that is neither a pose line nor POINTS2D triplets, or a repeated IMAGE_ID, is an error
+// naming the line, the field and the value.
+TEST_F(ColmapScene, MalformedImageLinesAreNamed) {
+  auto withLine = [&](size_t after, const std::string& line) {
+    test::writeText(model("images.txt"), imagesText(rig, [&](size_t k) -> std::string {
+                      return k == after ? line : "1 2 -1";
+                    }));
+  };
+  withLine(0, "12.5 3.5 1 40.0"); // 4 fields: not triplets, not a pose line
+  expectError([&] { scene::readColmapSource(root); },
+              {"images.txt", "line 4", "POINTS2D", "4 field(s)", "12.5 3.5 1 40.0"});
+  withLine(1, "12.5 3.5 x");
+  expectError([&] { scene::readColmapSource(root); }, {"images.txt", "line 6", "3 field(s)"});
+  withLine(0, "1 2 -1 3 4 -1 5 6 -1 7 8"); // 11 fields, shaped like a pose line
+  expectError([&] { scene::readColmapSource(root); },
+              {"images.txt", "line 4", "quaternion", "norm"});
+  // The same IMAGE_ID twice.
+  std::string text = imagesText(rig, [](size_t) { return ""; });
+  const size_t at = text.find("\n11 ");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 4, "\n10 ");
+  test::writeText(model("images.txt"), text);
+  expectError([&] { scene::readColmapSource(root); },
+              {"images.txt", "IMAGE_ID 10", "twice", "also line 3"});
 }

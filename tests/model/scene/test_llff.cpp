@@ -1,5 +1,6 @@
 // LLFF scenes: conversion of poses_bounds.npy to OpenCV world->camera cameras, bounds,
 // normalisation, images, and every bad input.
+#include "support/captured_warnings.h"
 #include "support/expect_error.h"
 #include "support/scene_fixtures.h"
 
@@ -247,6 +248,62 @@ TEST_F(LlffScene, BadBounds) {
   setValue(0, 16, 50);
   setValue(0, 14, -3); // focal
   expectError([&] { scene::readScene(root); }, {"poses_bounds.npy", "view 0", "focal", "-3"});
+}
+
+// Degenerate geometry: what cannot be a camera is an error naming the file, view, field and
+// value; what is valid but will give a poor result is a warning that says why.
+TEST_F(LlffScene, DegenerateGeometryIsRejectedOrWarned) {
+  for (double focal : {1e-300, 1e300, 0.01}) { // relative fx = focal / 48
+    setValue(1, 14, focal);
+    expectError([&] { scene::readScene(root); },
+                {"poses_bounds.npy", "view 1", "focal length fx", "outside [0.001, 1000]"});
+    test::writeLlffScene(root, rig, 2.0, 50.0);
+  }
+  setValue(2, 4, 0.4); // h rounds to 0 pixels
+  expectError([&] { scene::readScene(root); },
+              {"poses_bounds.npy", "view 2", "declared image size (h, w) = (0.4, 48)"});
+  test::writeLlffScene(root, rig, 2.0, 50.0);
+  {
+    test::CapturedWarnings warnings;
+    scene::readScene(root);
+    EXPECT_TRUE(warnings.messages().empty()) << warnings.text();
+  }
+  {
+    test::writeLlffScene(root, rig, 1e-4, 1e6);
+    test::CapturedWarnings warnings;
+    const scene::Scene s = scene::readScene(root);
+    EXPECT_EQ(s.size(), 3u);
+    EXPECT_EQ(warnings.count({"poses_bounds.npy", "near..far bounds 0.0001..1e+06",
+                              "depth ratio of 1e+10", "result will be poor"}),
+              1)
+        << warnings.text();
+  }
+  {
+    // A wide-angle focal length: fx = 4.8 / 48 = 0.1 is the edge; 2.4 / 48 = 0.05 is beyond.
+    test::writeLlffScene(root, rig, 2.0, 50.0);
+    for (size_t v = 0; v < 3; ++v)
+      setValue(v, 14, 2.4);
+    test::CapturedWarnings warnings;
+    scene::readScene(root);
+    EXPECT_EQ(warnings.count({"poses_bounds.npy", "view 'img_00.png' (and 2 more)", "fx = 0.05",
+                              "result will be poor"}),
+              1)
+        << warnings.text();
+    EXPECT_EQ(warnings.count({"fy = 0.075"}), 1) << warnings.text();
+  }
+  {
+    // All views at one centre: no parallax.
+    std::vector<scene::Camera> same = rig;
+    for (scene::Camera& c : same)
+      c.t = -c.R * rig[0].centre();
+    test::writeLlffScene(root, same, 2.0, 50.0);
+    test::CapturedWarnings warnings;
+    scene::readScene(root);
+    EXPECT_EQ(warnings.count(
+                  {"poses_bounds.npy", "3 views' camera centres lie within", "without parallax"}),
+              1)
+        << warnings.text();
+  }
 }
 
 // The NeRF layout: images/ at full size and images_N/ down-sampled by N.

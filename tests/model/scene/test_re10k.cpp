@@ -1,4 +1,5 @@
 // RealEstate10K / SWORD camera files.
+#include "support/captured_warnings.h"
 #include "support/expect_error.h"
 #include "support/scene_fixtures.h"
 
@@ -51,14 +52,70 @@ TEST(RealEstate10K, CamerasTxtWithImagesFolder) {
   EXPECT_EQ(s.views[1].imagePath, root + "/images/2000.png");
 }
 
-TEST(RealEstate10K, StopsAtFirstMissingImage) {
+// Frames without an image are left out with one warning that lists them (the reference stops
+// silently at the first one); no image at all is an error listing the frames.
+TEST(RealEstate10K, MissingImagesAreListed) {
   TempDir dir;
   const std::string root = dir / "s";
-  test::writeRealEstateScene(root, test::makeRig(4));
-  fs::remove(root + "/3000.png");
-  EXPECT_EQ(scene::readScene(root).size(), 2u); // frames 1000, 2000; 4000 is not read
-  fs::remove(root + "/1000.png");
-  expectError([&] { scene::readScene(root); }, {"s.txt", "no images", "1000.png"});
+  test::writeRealEstateScene(root, test::makeRig(8));
+  for (const char* id : {"3000", "5000", "6000"})
+    fs::remove(root + "/" + id + ".png");
+  {
+    test::CapturedWarnings warnings;
+    const scene::Scene s = scene::readScene(root);
+    ASSERT_EQ(s.size(), 5u);
+    EXPECT_EQ(s.views[2].name, "4000"); // frames after the first missing one are read
+    EXPECT_EQ(s.views[4].name, "8000");
+    EXPECT_EQ(warnings.count({"s.txt", "3 of its 8 frames have no image", "3000 (line 4)",
+                              "5000 (line 6)", "6000 (line 7)"}),
+              1)
+        << warnings.text();
+  }
+  {
+    test::CapturedWarnings warnings;
+    test::writeRealEstateScene(root, test::makeRig(8));
+    EXPECT_EQ(scene::readScene(root).size(), 8u);
+    EXPECT_TRUE(warnings.messages().empty()) << warnings.text();
+  }
+  for (int k = 1; k <= 8; ++k)
+    fs::remove(root + "/" + std::to_string(1000 * k) + ".png");
+  expectError([&] { scene::readScene(root); },
+              {"s.txt", "none of its 8 frames has an image", "1000 (line 2)", "and 3 more"});
+}
+
+// Line 1 is the video's URL in RealEstate10K files, but a file may start with a frame: line 1
+// is then read as one (it was always dropped as a header).
+TEST(RealEstate10K, FirstLineIsAFrameUnlessAHeader) {
+  TempDir dir;
+  const std::string root = dir / "s";
+  const auto rig = test::makeRig(3);
+  test::writeRealEstateScene(root, rig);
+  const std::string text = test::readText(root + "/s.txt");
+  const std::string frames = text.substr(text.find('\n') + 1);
+  test::writeText(root + "/s.txt", frames);
+  scene::Scene s = scene::readScene(root);
+  ASSERT_EQ(s.size(), 3u);
+  EXPECT_EQ(s.views[0].name, "1000");
+  // A scene name as the header (SWORD), comments and blank lines.
+  test::writeText(root + "/s.txt", "scene_0042\n# comment\n\n" + frames);
+  EXPECT_EQ(scene::readScene(root).size(), 3u);
+  // A malformed first frame line is an error, not a header.
+  test::writeText(root + "/s.txt", "1000 1 1.5 0.5\n" + frames.substr(frames.find('\n') + 1));
+  expectError([&] { scene::readScene(root); }, {"s.txt", "line 1", "19 fields", "got 4"});
+}
+
+// Frame ids name the images: the same id twice is an error naming both lines.
+TEST(RealEstate10K, DuplicateFrameIds) {
+  TempDir dir;
+  const std::string root = dir / "s";
+  test::writeRealEstateScene(root, test::makeRig(3));
+  std::string text = test::readText(root + "/s.txt");
+  const size_t at = text.find("\n3000 ");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 6, "\n1000 ");
+  test::writeText(root + "/s.txt", text);
+  expectError([&] { scene::readScene(root); },
+              {"s.txt", "line 4", "frame id 1000", "twice", "also line 2"});
 }
 
 TEST(RealEstate10K, BadLines) {

@@ -1,5 +1,6 @@
 // VGG-19 loader (torchvision key names, widths read from the file, clear errors) and the
 // perceptual loss against a plain double reference, on a small randomly initialised VGG.
+#include "support/captured_warnings.h"
 #include "support/expect_error.h"
 
 #include "simpli/model/io/safetensors.h"
@@ -247,6 +248,48 @@ TEST(TrainVgg, TrainerLogsThePerceptualTerm) {
   EXPECT_NE(messages[0].find("perceptual loss: VGG-19 from"), std::string::npos) << messages[0];
   fs::remove_all(run);
   fs::remove(file);
+}
+
+// `--vgg FILE` with a file that is not VGG-19 weights is a named error listing the missing keys,
+// also when the config's perceptual weight is 0 (the file was once not even opened then); a
+// real VGG file with weight 0 trains with a warning that it is unused.
+TEST(TrainVgg, FileThatIsNotVggWeightsIsAnError) {
+  const fs::path notVgg = fs::temp_directory_path() / ("not_vgg_" + std::to_string(::getpid()));
+  io::writeSafeTensors(notVgg.string(),
+                       {{"encoder.0.weight", io::makeEntry(io::HostTensor<float>{{2}, {1, 2}})}});
+  test::expectError([&] { Vgg19Features::check(notVgg.string()); },
+                    {notVgg.string(), "not VGG-19 weights", "32 of the 32 keys",
+                     "features.0.weight, features.0.bias, features.2.weight", "..."});
+  test::expectError([&] { Vgg19Features(notVgg.string(), ocl::Dtype::F32); },
+                    {notVgg.string(), "not VGG-19 weights"});
+  const fs::path vgg = writeVgg(makeVgg(4), "vgg_unused");
+  EXPECT_NO_THROW(Vgg19Features::check(vgg.string()));
+
+  const TrainingConfig cfg = parseTrainingConfig(
+      R"({"network": "tiny.json", "steps": 1, "sampling": {"max_views": 2, "novel_views": 1}})",
+      "t", SIMPLI_NETWORK_CONFIG_DIR);
+  ASSERT_EQ(cfg.weight("perceptual"), 0.0);
+  const fs::path run = fs::temp_directory_path() / ("simpli_vgg_off_" + std::to_string(::getpid()));
+  fs::remove_all(run);
+  TrainerOptions o;
+  o.data = std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic/scene_01";
+  o.runDir = run.string();
+  o.dataOptions.height = 32;
+  o.dataOptions.width = 48;
+  o.message = [](const std::string&) {};
+  o.vggPath = notVgg.string();
+  test::expectError([&] { Trainer(&cfg, o); }, {notVgg.string(), "not VGG-19 weights"});
+  EXPECT_FALSE(fs::exists(run)); // refused before the run folder is made
+  o.vggPath = vgg.string();
+  {
+    test::CapturedWarnings warnings;
+    Trainer t(&cfg, o);
+    EXPECT_EQ(warnings.count({vgg.string(), "loss_weights.perceptual is 0", "not used"}), 1)
+        << warnings.text();
+  }
+  fs::remove_all(run);
+  fs::remove(vgg);
+  fs::remove(notVgg);
 }
 
 } // namespace

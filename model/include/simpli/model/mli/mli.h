@@ -42,8 +42,9 @@ struct MLI {
 
 /// Throws simpli::Error unless `mli` is well formed: at least one layer; H, W >= 2 (the corner
 /// grid divides by W-1 and H-1); every layer's vectors sized H*W and H*W*4; all depths finite
-/// and > 0; all RGBA finite and in [0, 1]; camera intrinsics finite with fx, fy > 0; R a proper
-/// rotation (orthonormal within 1e-4, det > 0) and t finite. The message starts with `context`
+/// and > 0; all RGBA finite and in [0, 1]; the camera valid by scene::validateCamera
+/// (scene/camera_checks.h: finite, relative fx, fy in [1e-3, 1e3]) with R orthonormal within
+/// 1e-4. The message starts with `context`
 /// (e.g. the file being written) and names the layer, field, texel and value at fault.
 void validateMLI(const MLI& mli, const std::string& context = "MLI");
 

@@ -39,6 +39,10 @@ struct LoadReport {
   bool strippedModulePrefix = false;   ///< some keys carried a leading "module."
 };
 
+/// The most parameters a network may have: 2^28 (1 GiB in float32), far above the reference's
+/// 1,879,343 (4 layers); it keeps a config with huge channel counts from exhausting memory.
+inline constexpr int64_t kMaxParameters = int64_t(1) << 28;
+
 class ParameterStore {
 public:
   /// Parameters are created in `dtype` (F32 for work, F64 for reference / gradient checks)
@@ -48,7 +52,8 @@ public:
   ocl::Dtype dtype() const { return dtype_; }
 
   /// Registers and initialises a parameter. Throws simpli::Error if the name is taken, empty,
-  /// or the shape has a non-positive dimension.
+  /// the shape has a non-positive dimension, or the store would exceed kMaxParameters (checked
+  /// before anything is allocated).
   ocl::Tensor add(const std::string& name, const ocl::Shape& shape, ParamInit init);
 
   bool contains(const std::string& name) const { return index_.count(name) != 0; }

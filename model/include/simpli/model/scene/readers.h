@@ -34,7 +34,7 @@ struct SceneSource {
 /// down-sampled from h x w, which is how LLFF's images_4 etc. relate to the stored h, w).
 /// Images: sorted png/jpg/jpeg files (case-insensitive) in <root>/<imagesDir or "images">; their
 /// count must equal N. near = min over views, far = max over views; each view's near must be
-/// > 0 and its far > near.
+/// > 0 and its far > near; h and w must round to a size of at least one pixel.
 SceneSource readLlffSource(const std::string& root, const std::string& imagesDir = "");
 
 /// COLMAP text model (cameras.txt, images.txt, optional points3D.txt) in <root>/sparse/0,
@@ -42,19 +42,25 @@ SceneSource readLlffSource(const std::string& root, const std::string& imagesDir
 /// PINHOLE (fx fy cx cy) and SIMPLE_PINHOLE (f cx cy); pixel coordinates have their origin at
 /// the image corner (COLMAP's convention), so relative intrinsics are fx/W, cx/W, fy/H, cy/H.
 /// Models with distortion are rejected with advice to run `colmap image_undistorter`.
-/// images.txt gives world->camera rotation as QW QX QY QZ and translation TX TY TZ. Views are
-/// sorted by image name. Bounds from points3D.txt: per view, the depths of the points in front
-/// of the camera that project inside the image; near = min over views of the 1st percentile,
-/// far = max over views of the 99th percentile. No points3D.txt: no bounds (readScene then uses
-/// the explicit or default bounds).
+/// images.txt gives world->camera rotation as QW QX QY QZ and translation TX TY TZ, one pose
+/// line "IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME" per image, each followed by a POINTS2D
+/// line (X Y POINT3D_ID triplets) that may be empty or left out (some tools write none; lines
+/// are told apart by their shape); '#' lines are comments. A malformed line, a duplicate
+/// IMAGE_ID or NAME is an error naming the line and the field. Views are sorted by image name.
+/// Bounds from points3D.txt: per view, the depths of the points in front of the camera that project
+/// inside the image; near = min over views of the 1st percentile, far = max over views of the 99th
+/// percentile. No points3D.txt: no bounds (readScene then uses the explicit or default bounds).
 SceneSource readColmapSource(const std::string& root, const std::string& imagesDir = "");
 
 /// RealEstate10K / SWORD camera file: `path` is the file, or a folder holding <folder name>.txt
-/// or cameras.txt. Line 1 is a header (ignored); each further non-empty line is
-/// "frame_id fx fy cx cy 0 0 r11 r12 r13 t1 r21 r22 r23 t2 r31 r32 r33 t3" with relative
-/// intrinsics and world->camera [R|t]. Images <frame_id>.png/.jpg/.jpeg beside the file or in
-/// <folder>/<imagesDir or "images">. As in the reference, reading stops at the first frame
-/// whose image is missing; no image at all is an error. No bounds.
+/// or cameras.txt. Each non-empty line is "frame_id fx fy cx cy 0 0 r11 r12 r13 t1 r21 r22 r23
+/// t2 r31 r32 r33 t3" with relative intrinsics and world->camera [R|t], except line 1 when it
+/// is a header (the video's URL: a line that neither has 19 fields nor starts with an integer
+/// frame id); '#' lines are comments. A malformed line or a frame id that appears twice is an
+/// error naming the line. Images <frame_id>.png/.jpg/.jpeg beside the file or in
+/// <folder>/<imagesDir or "images">. Frames without an image are left out with one warning
+/// listing them (the reference stops at the first one silently); none with an image is an
+/// error. No bounds.
 SceneSource readRealEstateSource(const std::string& path, const std::string& imagesDir = "");
 
 /// The image folder of a scene root to read, relative to it, from the folders `images` and
@@ -68,8 +74,8 @@ std::string chooseImageFolder(const std::string& root, int factor, int preferred
 /// the folder does not exist.
 std::vector<std::string> listImageFiles(const std::string& folder);
 
-/// Checks a pose: finite R, t and intrinsics, positive focal lengths, max |R^T R - I| <=
-/// kRotationTolerance and det R > 0. Errors name `file` and `view`.
+/// Checks a pose read from a scene file: scene::validateCamera (scene/camera_checks.h) with
+/// kRotationTolerance. Errors name `file` and `view`.
 void checkCamera(const Camera& camera, const std::string& file, const std::string& view);
 
 /// Depths (camera z) of the points in front of the camera that project inside the image.

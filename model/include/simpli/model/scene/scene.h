@@ -37,6 +37,13 @@ SceneFormat parseSceneFormat(const std::string& name);
 constexpr double kDefaultNear = 1.0;
 constexpr double kDefaultFar = 100.0;
 
+/// Bounds whose far / near ratio exceeds this give a poor result (readScene warns): the
+/// network's planes span a ratio of kDefaultFar / kDefaultNear = 100.
+constexpr double kMaxGoodDepthRatio = 1000.0;
+/// Views whose centres all lie within this fraction of the near bound of each other show no
+/// parallax (readScene warns).
+constexpr double kMinGoodBaseline = 1e-6;
+
 /// Tolerance on max |R^T R - I| for a pose's rotation.
 constexpr double kRotationTolerance = 1e-3;
 
@@ -94,7 +101,9 @@ SceneFormat detectSceneFormat(const std::string& path);
 /// for: a missing folder, no images, image count != pose count, images of different sizes,
 /// unreadable images, malformed pose files, non-finite poses, rotations that are not
 /// orthonormal (tolerance kRotationTolerance), near <= 0 or far <= near, unsupported COLMAP
-/// camera models, COLMAP image names not on disk.
+/// camera models, COLMAP image names not on disk, cameras that scene::validateCamera refuses
+/// (scene/camera_checks.h). Warns (simpli/warning.h) where the result will be poor: camera
+/// concerns (scene::cameraConcerns), bounds beyond kMaxGoodDepthRatio, no baseline.
 Scene readScene(const std::string& path, const SceneReadOptions& options = {});
 
 /// Largest distance between two camera centres (0 for fewer than two cameras).

@@ -29,8 +29,11 @@ public:
 
   Vgg19Features() = default;
   /// Loads the convolutions from `path` in `dtype`. Throws simpli::Error naming the file and
-  /// the key for a missing key, a wrong rank/kernel/channel count, or an unsupported dtype.
+  /// the keys for missing keys (all of them are listed), a wrong rank/kernel/channel count, or
+  /// an unsupported dtype.
   Vgg19Features(const std::string& path, ocl::Dtype dtype);
+  /// The same checks from the file's header alone, without loading anything.
+  static void check(const std::string& path);
 
   bool loaded() const { return !weights_.empty(); }
   const std::string& path() const { return path_; }
