@@ -12,12 +12,14 @@
 #include <vtkObjectFactory.h>
 #include <vtkPartitionedDataSetCollection.h>
 #include <vtkSmartPointer.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkStringArray.h>
 
 #include "simpli/error.h"
 #include "simpli/model/generator/mli_builder.h"
 #include "simpli/model/mli/mli.h"
 #include "simpli/model/network/loader.h"
+#include "simpli/model/parallel/communicator.h"
 #include "simpli/model/scene/scene.h"
 
 #include <chrono>
@@ -199,6 +201,14 @@ vtkSIMPLIBuildMLI::vtkInternals::LoadNetwork(vtkSIMPLIBuildMLI* self) {
   }
 }
 
+int vtkSIMPLIBuildMLI::RequestInformation(vtkInformation* vtkNotUsed(request),
+                                          vtkInformationVector** vtkNotUsed(inputVector),
+                                          vtkInformationVector* outputVector) {
+  // Every piece is asked for (BuildPiece decides which one builds), not only piece 0.
+  outputVector->GetInformationObject(0)->Set(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST(), 1);
+  return 1;
+}
+
 int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
                                    vtkInformationVector** inputVector,
                                    vtkInformationVector* outputVector) {
@@ -208,6 +218,16 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
     return 0;
   }
   output->Initialize();
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  const int piece =
+      outInfo->Has(SDDP::UPDATE_PIECE_NUMBER()) ? outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()) : 0;
+  const int pieces = outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES())
+                         ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES())
+                         : 1;
+  if (this->BuildPiece >= 0 && pieces > 1 && piece >= 0 && piece < pieces &&
+      !simpli::parallel::ownsItem(static_cast<std::size_t>(this->BuildPiece), piece, pieces))
+    return 1; // another piece builds the MLI
   using simpli::vtkfilter::Progress;
   return simpli::vtkfilter::runRequest(
       this, "SIMPLI Build MLI",
@@ -258,6 +278,7 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
         stages.emplace_back("meshes", msSince(t0));
         addBuildFieldData(output->GetFieldData(), stages, build.views, loaded.network->config(),
                           loaded.weightsDescription);
+        output->GetFieldData()->AddArray(intValue("BuildPiece", piece));
         progress(1.0);
       },
       [output] { output->Initialize(); });
@@ -300,5 +321,6 @@ void vtkSIMPLIBuildMLI::PrintSelf(ostream& os, vtkIndent indent) {
      << "\n";
   os << indent << "Device: " << (this->Device ? this->Device : "(current)") << "\n";
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
+  os << indent << "BuildPiece: " << this->BuildPiece << "\n";
   os << indent << "NetworkLoaded: " << (this->Internals->Builder.hasNetwork() ? 1 : 0) << "\n";
 }

@@ -40,6 +40,14 @@
  *   - "SourceViews" (int, the scene views used), "NumberOfPlanes" (int), "NetworkConfig" and
  *     "NetworkWeights" (strings: the config's name and where the weights came from).
  *
+ * Pieces (pvbatch / pvserver on K MPI ranks run the pipeline as piece `rank` of K): the MLI is
+ * one piece's data. BuildPiece names it (modulo the number of pieces; default 0): that piece
+ * builds the MLI, every other piece produces an empty collection without reading the scene or
+ * loading the network, so a K-rank pvbatch builds it once, not K times, and shows one copy. A
+ * script with several scenes spreads them over the ranks with BuildPiece = the scene's index
+ * (round robin, as `simpli infer SCENES_DIR` deals scenes). BuildPiece -1 builds the whole MLI
+ * on every piece (a copy per rank). The building piece is in the field data ("BuildPiece").
+ *
  * Progress: scene, network, then the generator's stages (level 0/1, layers, each correction),
  * then the meshes. An abort (AbortExecute) is honoured between stages, also inside the forward
  * pass, and leaves an empty output. Errors (missing or unreadable scene folder, missing weights
@@ -195,6 +203,15 @@ public:
   vtkGetMacro(RandomSeed, int);
   ///@}
 
+  ///@{
+  /**
+   * The piece that builds the MLI, modulo the number of pieces (see the class comment); the
+   * others produce an empty output. -1 = every piece builds it. Default 0.
+   */
+  vtkSetClampMacro(BuildPiece, int, -1, VTK_INT_MAX);
+  vtkGetMacro(BuildPiece, int);
+  ///@}
+
   /**
    * Forgets the cached network and MLI (the next update loads and runs it again).
    */
@@ -205,6 +222,8 @@ protected:
   ~vtkSIMPLIBuildMLI() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+                         vtkInformationVector* outputVector) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
                   vtkInformationVector* outputVector) override;
 
@@ -222,6 +241,7 @@ protected:
   int DepthRange = DEPTH_RANGE_CONFIG;
   char* Device = nullptr;
   int RandomSeed = -1;
+  int BuildPiece = 0;
 
 private:
   vtkSIMPLIBuildMLI(const vtkSIMPLIBuildMLI&) = delete;

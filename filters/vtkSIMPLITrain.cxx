@@ -10,6 +10,7 @@
 #include <vtkMath.h>
 #include <vtkObjectFactory.h>
 #include <vtkSmartPointer.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkStringArray.h>
 #include <vtkTable.h>
 
@@ -125,6 +126,12 @@ int vtkSIMPLITrain::RequestData(vtkInformation* vtkNotUsed(request),
     return 0;
   }
   output->Initialize();
+  // In parallel (pvbatch on K ranks, piece = rank) one run folder takes one trainer: piece 0
+  // trains, the others leave an empty table (data-parallel training is mpiexec simpli train).
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) &&
+      outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) > 0)
+    return 1;
   const std::string what = "SIMPLI Train (RunDirectory '" + str(this->RunDirectory) + "')";
   return simpli::vtkfilter::runRequest(
       this, what,

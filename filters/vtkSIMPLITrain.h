@@ -28,6 +28,10 @@
  * non-finite gradients and made no update). Field data: "RunDirectory", "Messages" (the
  * trainer's lines), "FinalStep" (int), "TotalSteps" (int) and "Interrupted" (int).
  *
+ * Pieces: only piece 0 trains (a run folder takes one trainer); other pieces (the other ranks of
+ * pvbatch / pvserver) produce an empty table. To train over several ranks, run
+ * `mpiexec -n K simpli train` (data-parallel, see docs/parallel.md).
+ *
  * Progress: step / total steps, reported after every step. An abort (SetAbortExecute, e.g.
  * from a progress observer) stops the run after the current step with a complete checkpoint
  * (the trainer writes checkpoints atomically: never a half-written file); the table then holds

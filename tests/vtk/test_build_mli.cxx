@@ -357,6 +357,36 @@ TEST(BuildMLI, ANewSeedReloadsTheNetwork) {
   EXPECT_EQ(layerDifference(layer(first, 3), direct().mli, 3), 0.0);
 }
 
+// Pieces (pvbatch ranks): only piece BuildPiece mod pieces builds, the others are empty without
+// an error; -1 builds on every piece; the builder is named in the field data.
+TEST(BuildMLI, OnlyTheBuildPieceBuilds) {
+  vtkNew<vtkSIMPLIBuildMLI> f;
+  configure(f);
+  auto piece = [&](int p, int n) {
+    f->UpdatePiece(p, n, 0);
+    return outputOf(f)->GetNumberOfPartitionedDataSets();
+  };
+  const unsigned layers = piece(0, 1);
+  ASSERT_GT(layers, 0u);
+  EXPECT_EQ(piece(1, 2), 0u) << "piece 1 of 2 must leave the MLI to piece 0";
+  EXPECT_EQ(piece(0, 2), layers);
+  vtkIntArray* builder =
+      vtkIntArray::SafeDownCast(outputOf(f)->GetFieldData()->GetArray("BuildPiece"));
+  ASSERT_NE(builder, nullptr);
+  EXPECT_EQ(builder->GetValue(0), 0);
+  f->SetBuildPiece(3); // 3 mod 2: piece 1
+  EXPECT_EQ(piece(0, 2), 0u);
+  EXPECT_EQ(piece(1, 2), layers);
+  builder = vtkIntArray::SafeDownCast(outputOf(f)->GetFieldData()->GetArray("BuildPiece"));
+  ASSERT_NE(builder, nullptr);
+  EXPECT_EQ(builder->GetValue(0), 1);
+  EXPECT_EQ(piece(0, 1), layers) << "one piece builds whatever BuildPiece says";
+  f->SetBuildPiece(-1);
+  EXPECT_EQ(piece(0, 2), layers);
+  EXPECT_EQ(piece(1, 2), layers);
+  EXPECT_EQ(layerDifference(layer(outputOf(f), 3), direct().mli, 3), 0.0);
+}
+
 TEST(BuildMLI, BadInputFailsWithAClearMessage) {
   vtkNew<vtkSIMPLIBuildMLI> f;
   configure(f);

@@ -105,6 +105,21 @@ TEST(Train, ThreeStepsGiveATableAndACheckpoint) {
   EXPECT_EQ(vtkDataArray::SafeDownCast(tableOf(t)->GetColumnByName("step"))->GetComponent(0, 0), 4);
 }
 
+// Piece 1 of 2 (another pvbatch rank) does not train: an empty table, no run folder.
+TEST(Train, OnlyPieceZeroTrains) {
+  TempDir tmp;
+  const std::string run = tmp / "run";
+  vtkNew<vtkSIMPLITrain> t;
+  configure(t, run);
+  t->SetSteps(1);
+  t->UpdatePiece(1, 2, 0);
+  EXPECT_EQ(tableOf(t)->GetNumberOfRows(), 0);
+  EXPECT_FALSE(fs::exists(run));
+  t->UpdatePiece(0, 2, 0);
+  EXPECT_EQ(tableOf(t)->GetNumberOfRows(), 1);
+  EXPECT_TRUE(fs::exists(fs::path(run) / "weights.safetensors"));
+}
+
 class AbortAfterFirstStep : public vtkCommand {
 public:
   static AbortAfterFirstStep* New() { return new AbortAfterFirstStep; }

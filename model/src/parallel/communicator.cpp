@@ -96,12 +96,17 @@ Session::~Session() {
   backend::finish();
 }
 
-std::vector<std::size_t> roundRobinShare(std::size_t count, int rank, int size) {
+bool ownsItem(std::size_t index, int rank, int size) {
   if (size < 1 || rank < 0 || rank >= size)
-    fail("roundRobinShare: rank ", rank, " of ", size, " ranks");
+    fail("round robin: rank ", rank, " of ", size, " ranks");
+  return index % std::size_t(size) == std::size_t(rank);
+}
+
+std::vector<std::size_t> roundRobinShare(std::size_t count, int rank, int size) {
   std::vector<std::size_t> share;
-  for (std::size_t i = std::size_t(rank); i < count; i += std::size_t(size))
-    share.push_back(i);
+  for (std::size_t i = 0; i < count; ++i)
+    if (ownsItem(i, rank, size))
+      share.push_back(i);
   return share;
 }
 

@@ -123,8 +123,12 @@ TEST(ParallelShare, RoundRobinCoversEveryItemOnce) {
     for (std::size_t i : roundRobinShare(7, r, 3))
       ++seen[i];
   EXPECT_EQ(seen, std::vector<int>(7, 1));
+  EXPECT_TRUE(ownsItem(5, 1, 2));
+  EXPECT_FALSE(ownsItem(5, 0, 2));
+  EXPECT_TRUE(ownsItem(7, 0, 1));
   test::expectError([] { roundRobinShare(3, 2, 2); }, {"rank 2 of 2 ranks"});
   test::expectError([] { roundRobinShare(3, 0, 0); }, {"rank 0 of 0 ranks"});
+  test::expectError([] { ownsItem(0, -1, 2); }, {"rank -1 of 2 ranks"});
 }
 
 } // namespace

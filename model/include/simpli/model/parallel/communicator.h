@@ -74,5 +74,7 @@ public:
 
 /// Rank r's share of `count` items dealt round robin: r, r + K, r + 2K, ... (K = size).
 std::vector<std::size_t> roundRobinShare(std::size_t count, int rank, int size);
+/// Whether item `index` is rank r's in that dealing (index mod K == r).
+bool ownsItem(std::size_t index, int rank, int size);
 
 } // namespace simpli::parallel
