@@ -115,8 +115,8 @@ void setTexel(mli::MLILayer& layer, std::size_t p, double depth, double r, doubl
 
 // A forward-facing scene as SIMPLI's layers look (layer 0 farthest): an opaque background
 // receding towards the top (a slanted surface with fine texture), rolling hills over part of
-// the image, round objects with curved depth and soft edges, and sparse foliage near the
-// camera. Depths are ordered per texel (each layer nearer than the one behind it).
+// the image, three spheres with soft edges, and sparse foliage near the camera. Depths are ordered
+// per texel (each layer nearer than the one behind it).
 mli::MLI syntheticMLI(int W, int H) {
   scene::Camera ref;
   ref.fx = 0.9;
@@ -138,7 +138,8 @@ mli::MLI syntheticMLI(int W, int H) {
       const double hill = noise(j + 2000, i + 100, 160 * scale, 2);
       setTexel(mli.layers[1], p, 8.0 + std::sin(4 * u) * std::cos(3 * v), 0.25 + 0.4 * n2,
                0.5 + 0.3 * n1, 0.2, (hill - 0.45) * 12.0);
-      // Round objects (spheres seen head-on): depth 3.5..4.5, soft 3-texel edges.
+      // Round objects: spheres at depth ~4.5 (their depth bulge, 0.5, is about their radius
+      // in scene units at this focal length), soft 3-texel edges.
       double depth2 = 4.5, alpha2 = 0.0, shade = 0.0;
       for (const auto& [cu, cv, radius] :
            {std::array<double, 3>{0.3, 0.6, 0.12}, std::array<double, 3>{0.7, 0.45, 0.09},
@@ -147,7 +148,7 @@ mli::MLI syntheticMLI(int W, int H) {
         const double edge = clamp01((1.0 - r) * radius * W / 3.0);
         if (edge > alpha2) {
           alpha2 = edge;
-          depth2 = 4.5 - std::sqrt(std::max(0.0, 1.0 - r * r));
+          depth2 = 4.5 - 0.5 * std::sqrt(std::max(0.0, 1.0 - r * r));
           shade = 1.0 - 0.5 * r;
         }
       }

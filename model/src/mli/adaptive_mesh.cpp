@@ -82,6 +82,9 @@ double LayerGrid::twoTriangleDisparity(const Cell& c, double x, double y) const 
   const double s = (x - c.x0) / (c.x1 - c.x0), t = (y - c.y0) / (c.y1 - c.y0);
   const double tl = disparity[index(c.x0, c.y0)], tr = disparity[index(c.x1, c.y0)];
   const double bl = disparity[index(c.x0, c.y1)], br = disparity[index(c.x1, c.y1)];
+  if (c.flip) // diagonal bottom-left to top-right: (TL, BL, TR) above it, (BL, BR, TR) below
+    return s + t <= 1 ? tl + s * (tr - tl) + t * (bl - tl)
+                      : br + (1 - s) * (bl - br) + (1 - t) * (tr - br);
   // Diagonal top-left to bottom-right: (TL, BL, BR) below it, (TL, BR, TR) above it.
   return t >= s ? tl + t * (bl - tl) + s * (br - bl) : tl + s * (tr - tl) + t * (br - tr);
 }
@@ -90,8 +93,11 @@ bool LayerGrid::twoTrianglesFit(const Cell& c) const {
   const double tl = 1.0 / disparity[index(c.x0, c.y0)], tr = 1.0 / disparity[index(c.x1, c.y0)];
   const double bl = 1.0 / disparity[index(c.x0, c.y1)], br = 1.0 / disparity[index(c.x1, c.y1)];
   const double diagonal = std::hypot(c.x1 - c.x0, c.y1 - c.y0);
-  for (const double third : {bl, tr}) { // (TL, BL, BR) and (TL, BR, TR)
-    const double zMin = std::min({tl, br, third}), zMax = std::max({tl, br, third});
+  // The two triangles share the diagonal's ends and each has one of the other corners.
+  const double a = c.flip ? bl : tl, b = c.flip ? tr : br;
+  for (const double third :
+       c.flip ? std::array<double, 2>{tl, br} : std::array<double, 2>{bl, tr}) {
+    const double zMin = std::min({a, b, third}), zMax = std::max({a, b, third});
     if (textureSwimBound(diagonal, zMin, zMax) > textureTolerance)
       return false;
   }
@@ -123,7 +129,7 @@ std::vector<Cell> children(const Cell& c) {
 }
 
 // Appends the leaves of cell `c` (top-down refinement, see the header's rules).
-void refine(const LayerGrid& g, const Cell& c, int mixedCellSize, std::vector<Cell>& leaves) {
+void refine(const LayerGrid& g, const Cell& c, int maxTransparentQuads, std::vector<Cell>& leaves) {
   const int w = c.x1 - c.x0, h = c.y1 - c.y0;
   const std::int64_t visible = g.visibleQuads.sum(c.x0, c.y0, c.x1, c.y1);
   if (visible == 0)
@@ -133,13 +139,17 @@ void refine(const LayerGrid& g, const Cell& c, int mixedCellSize, std::vector<Ce
     leaves.push_back({c.x0, c.y0, c.x1, c.y1, cut});
     return;
   }
-  const bool mixed = visible < static_cast<std::int64_t>(w) * h;
-  if (!cut && !(mixed && std::max(w, h) > mixedCellSize) && g.twoTrianglesFit(c)) {
-    leaves.push_back(c);
-    return;
-  }
+  const std::int64_t transparent = static_cast<std::int64_t>(w) * h - visible;
+  if (!cut && transparent <= maxTransparentQuads)
+    for (const bool flip : {false, true}) {
+      const Cell leaf{c.x0, c.y0, c.x1, c.y1, false, flip};
+      if (g.twoTrianglesFit(leaf)) {
+        leaves.push_back(leaf);
+        return;
+      }
+    }
   for (const Cell& child : children(c))
-    refine(g, child, mixedCellSize, leaves);
+    refine(g, child, maxTransparentQuads, leaves);
 }
 
 // Vertices of the mesh being built. Positions are on the doubled grid (X, Y) = (2x, 2y), so
@@ -267,18 +277,37 @@ PolygonPoint fanCentre(const LayerGrid& g, const Cell& c) {
 
 using Triangle = std::array<PolygonPoint, 3>;
 
-// The triangles of a continuous leaf: two when its polygon is its four corners, else a fan.
-std::vector<Triangle> leafTriangles(const LayerGrid& g, const Cell& c,
-                                    const std::vector<PolygonPoint>& polygon) {
-  if (polygon.size() == 4) {
+// A leaf's triangulations, best first: two triangles when its polygon is its four corners;
+// else a fan from a corner whose two edges carry no other vertex (n - 2 triangles), then a
+// fan from its centre (n triangles).
+std::vector<std::vector<Triangle>> leafTriangulations(const LayerGrid& g, const Cell& c,
+                                                      const std::vector<PolygonPoint>& polygon) {
+  const std::size_t n = polygon.size();
+  if (n == 4) {
     const PolygonPoint &tl = polygon[0], &bl = polygon[1], &br = polygon[2], &tr = polygon[3];
-    return {Triangle{tl, bl, br}, Triangle{tl, br, tr}};
+    if (c.flip)
+      return {{Triangle{tl, bl, tr}, Triangle{bl, br, tr}}};
+    return {{Triangle{tl, bl, br}, Triangle{tl, br, tr}}};
+  }
+  auto isCorner = [&](const PolygonPoint& p) {
+    return (p.X == 2 * c.x0 || p.X == 2 * c.x1) && (p.Y == 2 * c.y0 || p.Y == 2 * c.y1);
+  };
+  std::vector<std::vector<Triangle>> out;
+  for (std::size_t k = 0; k < n && out.empty(); ++k) {
+    if (!isCorner(polygon[k]) || !isCorner(polygon[(k + 1) % n]) ||
+        !isCorner(polygon[(k + n - 1) % n]))
+      continue;
+    std::vector<Triangle> fan;
+    for (std::size_t i = 1; i + 1 < n; ++i)
+      fan.push_back({polygon[k], polygon[(k + i) % n], polygon[(k + i + 1) % n]});
+    out.push_back(std::move(fan));
   }
   const PolygonPoint centre = fanCentre(g, c);
   std::vector<Triangle> fan;
-  for (std::size_t k = 0; k < polygon.size(); ++k)
-    fan.push_back({centre, polygon[k], polygon[(k + 1) % polygon.size()]});
-  return fan;
+  for (std::size_t k = 0; k < n; ++k)
+    fan.push_back({centre, polygon[k], polygon[(k + 1) % n]});
+  out.push_back(std::move(fan));
+  return out;
 }
 
 // Twice the signed area of (a, b, p) on the doubled grid (positive inside a triangle wound as
@@ -442,8 +471,8 @@ void validateAdaptiveMeshOptions(const AdaptiveMeshOptions& o) {
          ", expected a value > 0 (infinity: never cut)");
   if (!(o.alphaThreshold >= 0 && o.alphaThreshold <= 1))
     fail("adaptive mesh: alphaThreshold = ", o.alphaThreshold, ", expected a value in [0, 1]");
-  if (o.mixedCellSize < 1)
-    fail("adaptive mesh: mixedCellSize = ", o.mixedCellSize, ", expected >= 1");
+  if (o.maxTransparentQuads < 0)
+    fail("adaptive mesh: maxTransparentQuads = ", o.maxTransparentQuads, ", expected >= 0");
 }
 
 double defaultCameraOffset(const MLI& mli) {
@@ -471,7 +500,7 @@ AdaptiveLayerMesh buildAdaptiveLayerMesh(const MLI& mli, int k,
   const LayerGrid g(mli, k, options);
 
   std::vector<Cell> leaves;
-  refine(g, {0, 0, g.W - 1, g.H - 1, false}, options.mixedCellSize, leaves);
+  refine(g, {0, 0, g.W - 1, g.H - 1, false}, options.maxTransparentQuads, leaves);
   // Fans (leaves whose neighbours put vertices on their edges) are checked against the
   // tolerance; those that miss it are split, which may turn neighbours into fans: repeat.
   AdaptiveLayerMesh mesh;
@@ -488,21 +517,28 @@ AdaptiveLayerMesh buildAdaptiveLayerMesh(const MLI& mli, int k,
         triangles.emplace_back();
         continue;
       }
-      std::vector<Triangle> t = leafTriangles(g, c, boundaryPolygon(g, c, mark));
+      // Two triangles were checked by refine (and 1 x 1 quads are exact): take the first
+      // triangulation that fits.
       const bool single = c.x1 - c.x0 == 1 && c.y1 - c.y0 == 1;
-      bool fits = true;
-      if (t.size() > 2 && !single)
-        for (const Triangle& tri : t)
-          fits = fits && triangleError(g, tri) <= g.disparityTolerance &&
-                 triangleSwim(tri) <= g.textureTolerance;
-      if (fits) {
-        next.push_back(c);
-        triangles.push_back(std::move(t));
-        continue;
+      bool placed = false;
+      for (std::vector<Triangle>& t : leafTriangulations(g, c, boundaryPolygon(g, c, mark))) {
+        bool fits = true;
+        if (t.size() > 2 && !single)
+          for (const Triangle& tri : t)
+            fits = fits && triangleError(g, tri) <= g.disparityTolerance &&
+                   triangleSwim(tri) <= g.textureTolerance;
+        if (fits) {
+          next.push_back(c);
+          triangles.push_back(std::move(t));
+          placed = true;
+          break;
+        }
       }
+      if (placed)
+        continue;
       settled = false;
       for (const Cell& child : children(c))
-        refine(g, child, options.mixedCellSize, next);
+        refine(g, child, options.maxTransparentQuads, next);
     }
     leaves = std::move(next);
   }

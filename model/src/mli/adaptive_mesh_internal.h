@@ -38,7 +38,8 @@ private:
 /// A quadtree cell: the texel quads [x0, x1) x [y0, y1), i.e. grid points x0..x1, y0..y1.
 struct Cell {
   int x0, y0, x1, y1;
-  bool cut; ///< a single quad with a discontinuous edge (emitted as quarters)
+  bool cut;          ///< a single quad with a discontinuous edge (emitted as quarters)
+  bool flip = false; ///< two triangles on the diagonal bottom-left to top-right
 };
 
 struct LayerGrid {
@@ -59,7 +60,7 @@ struct LayerGrid {
   std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * W + x; }
   std::size_t hIndex(int x, int y) const { return static_cast<std::size_t>(y) * (W - 1) + x; }
 
-  /// 1/d of the cell's two triangles (corners only, diagonal top-left to bottom-right) at grid
+  /// 1/d of the cell's two triangles (corners only, on the diagonal c.flip says) at grid
   /// position (x, y) inside the cell.
   double twoTriangleDisparity(const Cell& c, double x, double y) const;
   /// Whether the two triangles are within the tolerance at every visible texel of the cell and
