@@ -1,7 +1,8 @@
 // `simpli bench render`: times VTK/OpenGL rendering (an offscreen window, e.g. under xvfb-run)
 // of the per-texel and the adaptive form of the same MLI along a small orbit, and prints per
 // form the mesh build time, triangles, points, the bytes a GPU holds, frames per second, and
-// the PSNR of its images against the per-texel form's at the same cameras. Measures, never
+// the PSNR of its images against the per-texel form's at the same cameras (central 90 % crop,
+// the paper's). --raster times the OpenCL rasterizer on both forms too. Measures, never
 // asserts.
 //
 // The MLI is an MLI folder, or (--synthetic) a 4-layer 1008 x 752 MLI made here for a standard
@@ -26,10 +27,17 @@
 #include <vtkRenderer.h>
 
 #include <CLI/CLI.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "simpli/error.h"
+#include "simpli/model/metrics/image_quality.h"
 #include "simpli/model/mli/files.h"
+#include "simpli/model/raster/render_adaptive.h"
+#include "simpli/model/raster/render_mli.h"
 #include "simpli/model/scene/trajectory.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/device.h"
 
 #include <algorithm>
 #include <array>
@@ -39,11 +47,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace simpli::app {
@@ -61,7 +71,10 @@ struct BenchRenderOptions {
   int warmup = 5;
   double maxSeconds = 20.0;
   std::vector<double> tolerances{0.25};
-  std::string saveMli; ///< write the MLI rendered (e.g. the synthetic one) here, lossless form
+  std::string saveMli;    ///< write the MLI rendered (e.g. the synthetic one) here, lossless form
+  bool raster = false;    ///< also time the OpenCL rasterizer on both forms
+  std::string saveImages; ///< write every form's images at the sample cameras here (PNG)
+  std::string device;     ///< OpenCL device for --raster
 };
 
 // ---- the synthetic MLI -------------------------------------------------------------------
@@ -321,15 +334,128 @@ double fillUnits(const Timing& t, const Timing& unit) {
   return n % 2 ? ratios[n / 2] : 0.5 * (ratios[n / 2 - 1] + ratios[n / 2]);
 }
 
-double psnrAgainst(const Timing& a, const Timing& reference) {
+// Writes interleaved RGB in [0, 1] (row 0 = top) as DIR/NAME_sampleS.png (8-bit).
+void saveImages(const BenchRenderOptions& o, const std::string& name, const Timing& t, int W,
+                int H) {
+  if (o.saveImages.empty())
+    return;
+  std::filesystem::create_directories(o.saveImages);
+  std::string stem = name;
+  std::replace(stem.begin(), stem.end(), ' ', '_');
+  for (std::size_t s = 0; s < t.images.size(); ++s) {
+    cv::Mat bgr(H, W, CV_8UC3);
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        for (int c = 0; c < 3; ++c) // OpenCV stores BGR
+          bgr.at<cv::Vec3b>(y, x)[2 - c] = cv::saturate_cast<unsigned char>(
+              255.0 * t.images[s][3 * (static_cast<std::size_t>(y) * W + x) + c] + 0.5);
+    const std::string path = o.saveImages + "/" + stem + "_sample" + std::to_string(s) + ".png";
+    if (!cv::imwrite(path, bgr))
+      fail("--save-images: cannot write ", path);
+  }
+}
+
+// ---- the OpenCL rasterizer ---------------------------------------------------------------
+
+double psnrAgainst(const Timing& a, const Timing& reference, int W, int H);
+
+// Median wall time (ms) of `render` over the first frames of the orbit (at most `budget` s), and
+// its RGB at the sample cameras, interleaved like the VTK images.
+template <typename Render>
+std::pair<double, Timing> timeRaster(Render&& render, const std::vector<scene::Camera>& cameras,
+                                     const std::vector<std::size_t>& samples, int frames,
+                                     double budget) {
+  render(cameras[0]); // warm-up: kernel compilation, buffer pool
+  Timing t;
+  std::vector<double> ms;
+  const auto start = Clock::now();
+  for (int f = 0;
+       f < frames && std::chrono::duration<double>(Clock::now() - start).count() <= budget; ++f) {
+    const auto t0 = Clock::now();
+    render(cameras[static_cast<std::size_t>(f) % cameras.size()]);
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  t.frames = static_cast<int>(ms.size());
+  for (std::size_t s : samples) {
+    const std::vector<float> planar = render(cameras[s]);
+    const std::size_t n = planar.size() / 3;
+    std::vector<float> rgb(planar.size());
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t c = 0; c < 3; ++c)
+        rgb[3 * p + c] = planar[c * n + p];
+    t.images.push_back(std::move(rgb));
+  }
+  std::sort(ms.begin(), ms.end());
+  return {ms[ms.size() / 2], t};
+}
+
+void benchRaster(const mli::MLI& mli, const std::vector<scene::Camera>& cameras,
+                 const std::vector<std::size_t>& samples, const BenchRenderOptions& o) {
+  if (!o.device.empty()) {
+    const auto [platform, device] = ocl::Device::parseSelector(o.device, "--device");
+    ocl::Device::select(platform, device);
+  }
+  ocl::NoGradGuard noGrad;
+  std::printf("\nOpenCL rasterizer on %s (median of up to %d frames, at most %.0f s per form; "
+              "per-texel: the differentiable rasterizer, 16 fragments, perspective-correct; "
+              "adaptive: raster/render_adaptive.h)\n",
+              ocl::Device::current().info().deviceName.c_str(), std::min(o.frames, 10),
+              o.maxSeconds);
+  std::printf("%-22s %9s %10s %8s %9s %14s\n", "form", "build ms", "triangles", "fps", "ms/frame",
+              "PSNR/per-texel");
+  const raster::MLITensors tensors = raster::mliTensors(mli);
+  raster::RasterSettings
+      perspective; // as OpenGL interpolates (simpli render --perspective-correct)
+  perspective.interpolation = raster::RasterInterpolation::PerspectiveCorrect;
+  auto perTexel = [&](const scene::Camera& c) {
+    return raster::renderLayers(tensors.depth, tensors.rgba, mli.camera, c, perspective)
+        .colour.toVectorF32();
+  };
+  const auto [perTexelMs, perTexelTiming] =
+      timeRaster(perTexel, cameras, samples, std::min(o.frames, 10), o.maxSeconds);
+  saveImages(o, "raster per-texel", perTexelTiming, cameras[0].width, cameras[0].height);
+  std::printf("%-22s %9s %10lld %8.2f %9.1f %14s\n", "per-texel", "-",
+              static_cast<long long>(mli.numLayers()) * 2 * (mli.height() - 1) * (mli.width() - 1),
+              1000.0 / perTexelMs, perTexelMs, "-");
+  for (double tolerance : o.tolerances) {
+    mli::AdaptiveMeshOptions options;
+    options.tolerancePixels = tolerance;
+    const auto t0 = Clock::now();
+    const raster::AdaptiveMLI adaptive = raster::buildAdaptiveMLI(mli, options);
+    const double buildMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    auto render = [&](const scene::Camera& c) {
+      return raster::renderAdaptiveMLI(adaptive, c).colour.toVectorF32();
+    };
+    const auto [ms, timing] =
+        timeRaster(render, cameras, samples, std::min(o.frames, 10), o.maxSeconds);
+    char name[64], psnr[32];
+    std::snprintf(name, sizeof name, "adaptive %.3g px", tolerance);
+    std::snprintf(psnr, sizeof psnr, "%.2f dB",
+                  psnrAgainst(timing, perTexelTiming, cameras[0].width, cameras[0].height));
+    saveImages(o, std::string("raster ") + name, timing, cameras[0].width, cameras[0].height);
+    std::printf("%-22s %9.1f %10zu %8.2f %9.1f %14s\n", name, buildMs, adaptive.numTriangles(),
+                1000.0 / ms, ms, psnr);
+    std::fflush(stdout);
+  }
+}
+
+// PSNR of `a`'s images against `reference`'s over the paper's central crop (90 % of the area):
+// at the image border an orbit camera sees past the back layer, where the rasterizer's
+// farthest-fragment rule makes whatever front-layer fragment is there opaque, the per-texel
+// form's transparent texels included.
+double psnrAgainst(const Timing& a, const Timing& reference, int W, int H) {
+  const metrics::CropWindow crop = metrics::centralCrop(W, H);
   double se = 0;
   std::size_t n = 0;
   for (std::size_t s = 0; s < a.images.size(); ++s)
-    for (std::size_t i = 0; i < a.images[s].size(); ++i) {
-      const double d = static_cast<double>(a.images[s][i]) - reference.images[s][i];
-      se += d * d;
-      ++n;
-    }
+    for (int y = crop.y; y < crop.y + crop.height; ++y)
+      for (int x = crop.x; x < crop.x + crop.width; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const std::size_t i = 3 * (static_cast<std::size_t>(y) * W + x) + c;
+          const double d = static_cast<double>(a.images[s][i]) - reference.images[s][i];
+          se += d * d;
+          ++n;
+        }
   return se == 0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(n / se);
 }
 
@@ -427,10 +553,11 @@ void runBenchRender(BenchRenderOptions o) {
   const std::vector<Timing> timings = timeForms(forms, cameras, samples, nearZ, farZ, o);
   for (std::size_t f = 0; f < forms.size(); ++f) {
     const Timing& t = timings[f];
+    saveImages(o, "vtk " + forms[f].name, t, W, H);
     const double ms = 1000.0 * t.seconds / t.frames;
     char psnr[32] = "-";
     if (f > 1)
-      std::snprintf(psnr, sizeof psnr, "%.2f dB", psnrAgainst(t, timings[1]));
+      std::snprintf(psnr, sizeof psnr, "%.2f dB", psnrAgainst(t, timings[1], W, H));
     std::printf("%-22s %9.1f %10lld %10lld %8.2f %8.2f %9.2f %9.2f %7d %6.2f %14s\n",
                 forms[f].name.c_str(), forms[f].buildMs, forms[f].triangles, forms[f].points,
                 forms[f].bytes / 1048576.0, 1000.0 / ms, ms, 1000.0 * t.cpuSeconds / t.frames,
@@ -440,6 +567,8 @@ void runBenchRender(BenchRenderOptions o) {
               "window) in the same round (median of %zu rounds); the same on any machine to the "
               "extent that both are fill-bound\n",
               std::min<std::size_t>(5, cameras.size()));
+  if (o.raster)
+    benchRaster(mli, cameras, samples, o);
   std::printf("load average at end: %s\n", loadAverage().c_str());
 }
 
@@ -466,6 +595,12 @@ void addBenchRenderCommand(CLI::App& bench) {
       ->capture_default_str();
   cmd->add_option("--save-mli", o->saveMli,
                   "Also write the MLI measured (e.g. the synthetic one) here, lossless form");
+  cmd->add_option("--save-images", o->saveImages,
+                  "Write every form's images at the 4 sample cameras here (PNG)");
+  cmd->add_flag("--raster", o->raster,
+                "Also time the OpenCL rasterizer (per-texel and adaptive) at the same cameras");
+  cmd->add_option("--device", o->device,
+                  "OpenCL device for --raster as platform:device (see simpli devices)");
   cmd->callback([o] { runBenchRender(*o); });
 }
 
