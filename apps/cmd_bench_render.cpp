@@ -357,7 +357,8 @@ void saveImages(const BenchRenderOptions& o, const std::string& name, const Timi
 
 // ---- the OpenCL rasterizer ---------------------------------------------------------------
 
-double psnrAgainst(const Timing& a, const Timing& reference, int W, int H);
+double psnrAgainst(const Timing& a, const Timing& reference, int W, int H,
+                   const std::vector<std::vector<std::uint8_t>>* masks = nullptr);
 
 // Median wall time (ms) of `render` over the first frames of the orbit (at most `budget` s), and
 // its RGB at the sample cameras, interleaved like the VTK images.
@@ -389,6 +390,34 @@ std::pair<double, Timing> timeRaster(Render&& render, const std::vector<scene::C
   return {ms[ms.size() / 2], t};
 }
 
+// Per sample camera, the pixels whose farthest per-texel fragment is on the back layer (layer
+// 0): elsewhere (past the back layer's edge, seen from an orbit camera) the farthest-fragment
+// rule shows whatever front-layer texel is there, transparent ones included in the per-texel
+// form but not in the adaptive one, so the two forms differ by design.
+std::vector<std::vector<std::uint8_t>> backLayerMasks(const raster::MLITensors& tensors,
+                                                      const mli::MLI& mli,
+                                                      const std::vector<scene::Camera>& cameras,
+                                                      const std::vector<std::size_t>& samples,
+                                                      const raster::RasterSettings& settings) {
+  std::vector<std::vector<std::uint8_t>> masks;
+  for (std::size_t s : samples) {
+    const raster::RasterFragments f =
+        raster::rasterizeLayers(tensors.depth, mli.camera, cameras[s], settings);
+    const std::vector<double> layer = f.layerIndex().toVector();
+    const std::size_t n = static_cast<std::size_t>(f.targetHeight) * f.targetWidth;
+    std::vector<std::uint8_t> mask(n, 0);
+    for (std::size_t p = 0; p < n; ++p) {
+      double farthest = -1;
+      for (int k = 0; k < f.maxFragments; ++k)
+        if (layer[k * n + p] >= 0)
+          farthest = layer[k * n + p];
+      mask[p] = farthest == 0;
+    }
+    masks.push_back(std::move(mask));
+  }
+  return masks;
+}
+
 void benchRaster(const mli::MLI& mli, const std::vector<scene::Camera>& cameras,
                  const std::vector<std::size_t>& samples, const BenchRenderOptions& o) {
   if (!o.device.empty()) {
@@ -396,16 +425,16 @@ void benchRaster(const mli::MLI& mli, const std::vector<scene::Camera>& cameras,
     ocl::Device::select(platform, device);
   }
   ocl::NoGradGuard noGrad;
+  const int W = cameras[0].width, H = cameras[0].height;
   std::printf("\nOpenCL rasterizer on %s (median of up to %d frames, at most %.0f s per form; "
               "per-texel: the differentiable rasterizer, 16 fragments, perspective-correct; "
-              "adaptive: raster/render_adaptive.h)\n",
+              "adaptive: raster/render_adaptive.h; PSNR where the back layer is seen)\n",
               ocl::Device::current().info().deviceName.c_str(), std::min(o.frames, 10),
               o.maxSeconds);
   std::printf("%-22s %9s %10s %8s %9s %14s\n", "form", "build ms", "triangles", "fps", "ms/frame",
               "PSNR/per-texel");
   const raster::MLITensors tensors = raster::mliTensors(mli);
-  raster::RasterSettings
-      perspective; // as OpenGL interpolates (simpli render --perspective-correct)
+  raster::RasterSettings perspective; // as OpenGL interpolates
   perspective.interpolation = raster::RasterInterpolation::PerspectiveCorrect;
   auto perTexel = [&](const scene::Camera& c) {
     return raster::renderLayers(tensors.depth, tensors.rgba, mli.camera, c, perspective)
@@ -413,7 +442,8 @@ void benchRaster(const mli::MLI& mli, const std::vector<scene::Camera>& cameras,
   };
   const auto [perTexelMs, perTexelTiming] =
       timeRaster(perTexel, cameras, samples, std::min(o.frames, 10), o.maxSeconds);
-  saveImages(o, "raster per-texel", perTexelTiming, cameras[0].width, cameras[0].height);
+  const auto masks = backLayerMasks(tensors, mli, cameras, samples, perspective);
+  saveImages(o, "raster per-texel", perTexelTiming, W, H);
   std::printf("%-22s %9s %10lld %8.2f %9.1f %14s\n", "per-texel", "-",
               static_cast<long long>(mli.numLayers()) * 2 * (mli.height() - 1) * (mli.width() - 1),
               1000.0 / perTexelMs, perTexelMs, "-");
@@ -421,20 +451,17 @@ void benchRaster(const mli::MLI& mli, const std::vector<scene::Camera>& cameras,
     mli::AdaptiveMeshOptions options;
     options.tolerancePixels = tolerance;
     const auto t0 = Clock::now();
-    const raster::AdaptiveMLI adaptive = raster::buildAdaptiveMLI(mli, options);
+    const raster::AdaptiveRenderer renderer(raster::buildAdaptiveMLI(mli, options));
     const double buildMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    auto render = [&](const scene::Camera& c) {
-      return raster::renderAdaptiveMLI(adaptive, c).colour.toVectorF32();
-    };
+    auto render = [&](const scene::Camera& c) { return renderer.render(c).colour.toVectorF32(); };
     const auto [ms, timing] =
         timeRaster(render, cameras, samples, std::min(o.frames, 10), o.maxSeconds);
     char name[64], psnr[32];
     std::snprintf(name, sizeof name, "adaptive %.3g px", tolerance);
-    std::snprintf(psnr, sizeof psnr, "%.2f dB",
-                  psnrAgainst(timing, perTexelTiming, cameras[0].width, cameras[0].height));
-    saveImages(o, std::string("raster ") + name, timing, cameras[0].width, cameras[0].height);
-    std::printf("%-22s %9.1f %10zu %8.2f %9.1f %14s\n", name, buildMs, adaptive.numTriangles(),
-                1000.0 / ms, ms, psnr);
+    std::snprintf(psnr, sizeof psnr, "%.2f dB", psnrAgainst(timing, perTexelTiming, W, H, &masks));
+    saveImages(o, std::string("raster ") + name, timing, W, H);
+    std::printf("%-22s %9.1f %10zu %8.2f %9.1f %14s\n", name, buildMs,
+                renderer.adaptive().numTriangles(), 1000.0 / ms, ms, psnr);
     std::fflush(stdout);
   }
 }
@@ -443,7 +470,8 @@ void benchRaster(const mli::MLI& mli, const std::vector<scene::Camera>& cameras,
 // at the image border an orbit camera sees past the back layer, where the rasterizer's
 // farthest-fragment rule makes whatever front-layer fragment is there opaque, the per-texel
 // form's transparent texels included.
-double psnrAgainst(const Timing& a, const Timing& reference, int W, int H) {
+double psnrAgainst(const Timing& a, const Timing& reference, int W, int H,
+                   const std::vector<std::vector<std::uint8_t>>* masks) {
   const metrics::CropWindow crop = metrics::centralCrop(W, H);
   double se = 0;
   std::size_t n = 0;
@@ -451,6 +479,8 @@ double psnrAgainst(const Timing& a, const Timing& reference, int W, int H) {
     for (int y = crop.y; y < crop.y + crop.height; ++y)
       for (int x = crop.x; x < crop.x + crop.width; ++x)
         for (int c = 0; c < 3; ++c) {
+          if (masks && !(*masks)[s][static_cast<std::size_t>(y) * W + x])
+            continue;
           const std::size_t i = 3 * (static_cast<std::size_t>(y) * W + x) + c;
           const double d = static_cast<double>(a.images[s][i]) - reference.images[s][i];
           se += d * d;

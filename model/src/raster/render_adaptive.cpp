@@ -17,6 +17,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 namespace simpli::raster {
 
@@ -154,36 +155,40 @@ AdaptiveMLI buildAdaptiveMLI(const mli::MLI& mli, const mli::AdaptiveMeshOptions
   return out;
 }
 
-AdaptiveRender renderAdaptiveMLI(const AdaptiveMLI& a, const scene::Camera& target,
-                                 const AdaptiveRenderSettings& settings, ocl::Dtype dtype) {
-  mli::validateMLI(a.mli, kOp);
+AdaptiveRenderer::AdaptiveRenderer(AdaptiveMLI adaptive, ocl::Dtype dtype)
+    : adaptive_(std::move(adaptive)), dtype_(dtype) {
+  mli::validateMLI(adaptive_.mli, kOp);
+  if (adaptive_.meshes.size() != adaptive_.mli.layers.size())
+    fail(kOp, ": ", adaptive_.meshes.size(), " meshes for ", adaptive_.mli.numLayers(), " layers");
+  for (std::size_t k = 0; k < adaptive_.meshes.size(); ++k)
+    checkMesh(adaptive_.mli, static_cast<int>(k), adaptive_.meshes[k]);
+  rgba_ = mliTensors(adaptive_.mli, dtype_).rgba;
+}
+
+AdaptiveRender AdaptiveRenderer::render(const scene::Camera& target,
+                                        const AdaptiveRenderSettings& settings) const {
   checkCamera(target, kOp, "target", true);
   if (!(settings.nearZ > 0) || !std::isfinite(settings.nearZ))
     fail(kOp, ": nearZ = ", settings.nearZ, ", expected a finite value > 0");
   if (settings.tileSize < 4 || settings.tileSize > 64)
     fail(kOp, ": tileSize = ", settings.tileSize, ", expected 4 .. 64");
-  if (a.meshes.size() != a.mli.layers.size())
-    fail(kOp, ": ", a.meshes.size(), " meshes for ", a.mli.numLayers(), " layers");
-  for (std::size_t k = 0; k < a.meshes.size(); ++k)
-    checkMesh(a.mli, static_cast<int>(k), a.meshes[k]);
   ocl::checkedInt(int64_t(4) * target.width * target.height, kOp);
   ensureModelKernels();
 
-  const Binned b = binTriangles(a, target, settings.nearZ, settings.tileSize);
+  const Binned b = binTriangles(adaptive_, target, settings.nearZ, settings.tileSize);
   const int64_t T = static_cast<int64_t>(b.layer.size());
   std::vector<double> tris = b.tris;
   if (tris.empty())
     tris.assign(kTriStride, 0.0); // never read: every tile list is empty
   const ocl::Tensor triTensor =
-      ocl::Tensor::fromHost(tris, {std::max<int64_t>(T, 1), kTriStride}, dtype);
+      ocl::Tensor::fromHost(tris, {std::max<int64_t>(T, 1), kTriStride}, dtype_);
   const auto layerBuffer = upload(b.layer), startBuffer = upload(b.tileStart);
   const auto listBuffer = upload(b.tileTriangles);
-  const ocl::Tensor rgba = mliTensors(a.mli, dtype).rgba;
 
-  ocl::Tensor packed = ocl::Tensor::empty({4, target.height, target.width}, dtype);
-  ocl::Launch("raster_adaptive", "raster_adaptive_shade", dtype)
-      .arg(a.mli.height())
-      .arg(a.mli.width())
+  ocl::Tensor packed = ocl::Tensor::empty({4, target.height, target.width}, dtype_);
+  ocl::Launch("raster_adaptive", "raster_adaptive_shade", dtype_)
+      .arg(adaptive_.mli.height())
+      .arg(adaptive_.mli.width())
       .arg(target.height)
       .arg(target.width)
       .arg(settings.tileSize)
@@ -192,10 +197,15 @@ AdaptiveRender renderAdaptiveMLI(const AdaptiveMLI& a, const scene::Camera& targ
       .arg(layerBuffer->mem())
       .arg(startBuffer->mem())
       .arg(listBuffer->mem())
-      .arg(rgba)
+      .arg(rgba_)
       .arg(packed)
       .run2(target.width, target.height, 16, 4);
   return {ocl::slice(packed, 0, 0, 3), ocl::slice(packed, 0, 3, 4)};
+}
+
+AdaptiveRender renderAdaptiveMLI(const AdaptiveMLI& adaptive, const scene::Camera& target,
+                                 const AdaptiveRenderSettings& settings, ocl::Dtype dtype) {
+  return AdaptiveRenderer(adaptive, dtype).render(target, settings);
 }
 
 } // namespace simpli::raster

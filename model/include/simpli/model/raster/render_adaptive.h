@@ -45,9 +45,25 @@ struct AdaptiveRender {
   ocl::Tensor opacity; ///< [1, Ht, Wt]
 };
 
-/// Renders `adaptive` into `target` (its width x height is the output size), in `dtype`.
-/// Throws simpli::Error for a mesh that does not belong to the MLI (count, indices, positions),
-/// a bad camera or settings.
+/// An AdaptiveMLI ready to render many views: checked once, its texels uploaded once.
+class AdaptiveRenderer {
+public:
+  /// Throws simpli::Error for a mesh that does not belong to the MLI (count, indices,
+  /// positions).
+  explicit AdaptiveRenderer(AdaptiveMLI adaptive, ocl::Dtype dtype = ocl::Dtype::F32);
+  /// Renders into `target` (its width x height is the output size). Throws simpli::Error for a
+  /// bad camera or settings.
+  AdaptiveRender render(const scene::Camera& target,
+                        const AdaptiveRenderSettings& settings = {}) const;
+  const AdaptiveMLI& adaptive() const { return adaptive_; }
+
+private:
+  AdaptiveMLI adaptive_;
+  ocl::Dtype dtype_;
+  ocl::Tensor rgba_; ///< [L, 4, H, W]
+};
+
+/// AdaptiveRenderer(adaptive, dtype).render(target, settings).
 AdaptiveRender renderAdaptiveMLI(const AdaptiveMLI& adaptive, const scene::Camera& target,
                                  const AdaptiveRenderSettings& settings = {},
                                  ocl::Dtype dtype = ocl::Dtype::F32);
