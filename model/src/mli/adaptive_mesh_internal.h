@@ -1,6 +1,7 @@
 #pragma once
 // The adaptive mesh builder's view of one layer (mli/adaptive_mesh.h): 1/d, visibility and
 // discontinuous texel edges on the corner grid, with summed-area tables for cell queries.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -70,5 +71,28 @@ struct LayerGrid {
 private:
   void markDiscontinuities(double discontinuityPixels);
 };
+
+/// A point of a leaf's boundary polygon or fan: position on the doubled grid (X, Y) = (2x, 2y),
+/// so that half-grid points are integers too, and 1/d.
+struct PolygonPoint {
+  int X, Y;
+  double disparity;
+};
+
+using Triangle = std::array<PolygonPoint, 3>;
+
+/// Twice the signed area of (a, b, p) on the doubled grid (positive inside a triangle wound as
+/// the mesh's triangles: y points down, so this winding is clockwise on screen).
+inline std::int64_t edgeFunction(const PolygonPoint& a, const PolygonPoint& b, std::int64_t X,
+                                 std::int64_t Y) {
+  return (static_cast<std::int64_t>(b.Y) - a.Y) * (X - a.X) -
+         (static_cast<std::int64_t>(b.X) - a.X) * (Y - a.Y);
+}
+
+/// Appends the vertices and triangles of `leaves` to `mesh` (adaptive_mesh_emit.cpp): cut
+/// quads as their quarters, the others as `triangles[l]` without those that cover no visible
+/// quad; counts leaves and cut quads.
+void emitLeaves(const LayerGrid& g, const MLI& mli, const std::vector<Cell>& leaves,
+                const std::vector<std::vector<Triangle>>& triangles, AdaptiveLayerMesh& mesh);
 
 } // namespace simpli::mli::adaptive
