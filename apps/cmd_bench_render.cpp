@@ -1,7 +1,8 @@
 // `simpli bench render`: times VTK/OpenGL rendering (an offscreen window, e.g. under xvfb-run)
 // of the per-texel and the adaptive form of the same MLI along a small orbit, and prints per
 // form the mesh build time, triangles, points, the bytes a GPU holds, frames per second, and
-// the PSNR of its images against the per-texel form's at the same cameras. Measures, never
+// the PSNR of its images against the per-texel form's at the same cameras (central 90 % crop,
+// the paper's). --raster times the OpenCL rasterizer on both forms too. Measures, never
 // asserts.
 //
 // The MLI is an MLI folder, or (--synthetic) a 4-layer 1008 x 752 MLI made here for a standard
@@ -14,6 +15,7 @@
 // and finished (WaitForCompletion), capped at --max-seconds per form; fps = frames / time.
 #include "SIMPLILayerActors.h"
 #include "SIMPLIMLIToVTK.h"
+#include "synthetic_mli.h"
 
 #include <vtkCamera.h>
 #include <vtkFieldData.h>
@@ -26,10 +28,17 @@
 #include <vtkRenderer.h>
 
 #include <CLI/CLI.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "simpli/error.h"
+#include "simpli/model/metrics/image_quality.h"
 #include "simpli/model/mli/files.h"
+#include "simpli/model/raster/render_adaptive.h"
+#include "simpli/model/raster/render_mli.h"
 #include "simpli/model/scene/trajectory.h"
+#include "simpli/ocl/autograd.h"
+#include "simpli/ocl/device.h"
 
 #include <algorithm>
 #include <array>
@@ -39,11 +48,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace simpli::app {
@@ -61,105 +72,11 @@ struct BenchRenderOptions {
   int warmup = 5;
   double maxSeconds = 20.0;
   std::vector<double> tolerances{0.25};
-  std::string saveMli; ///< write the MLI rendered (e.g. the synthetic one) here, lossless form
+  std::string saveMli;    ///< write the MLI rendered (e.g. the synthetic one) here, lossless form
+  bool raster = false;    ///< also time the OpenCL rasterizer on both forms
+  std::string saveImages; ///< write every form's images at the sample cameras here (PNG)
+  std::string device;     ///< OpenCL device for --raster
 };
-
-// ---- the synthetic MLI -------------------------------------------------------------------
-
-// Smooth value noise in [0, 1] with `octaves` octaves, lattice spacing `cell` texels.
-class ValueNoise {
-public:
-  explicit ValueNoise(std::uint32_t seed) : seed_(seed) {}
-  double operator()(double x, double y, double cell, int octaves) const {
-    double sum = 0, weight = 0, amplitude = 1;
-    for (int o = 0; o < octaves; ++o, cell *= 0.5, amplitude *= 0.5) {
-      sum += amplitude * smooth(x / cell, y / cell, static_cast<std::uint32_t>(o));
-      weight += amplitude;
-    }
-    return sum / weight;
-  }
-
-private:
-  double lattice(std::int64_t i, std::int64_t j, std::uint32_t octave) const {
-    std::uint32_t h = seed_ ^ (static_cast<std::uint32_t>(i) * 0x8da6b343u) ^
-                      (static_cast<std::uint32_t>(j) * 0xd8163841u) ^ (octave * 0xcb1ab31fu);
-    h ^= h >> 13;
-    h *= 0x5bd1e995u;
-    h ^= h >> 15;
-    return (h & 0xffffff) / static_cast<double>(0xffffff);
-  }
-  double smooth(double x, double y, std::uint32_t octave) const {
-    const double fx = std::floor(x), fy = std::floor(y);
-    const auto i = static_cast<std::int64_t>(fx), j = static_cast<std::int64_t>(fy);
-    const double s = x - fx, t = y - fy;
-    const double u = s * s * (3 - 2 * s), v = t * t * (3 - 2 * t);
-    const double a = lattice(i, j, octave), b = lattice(i + 1, j, octave);
-    const double c = lattice(i, j + 1, octave), d = lattice(i + 1, j + 1, octave);
-    return a + u * (b - a) + v * (c - a) + u * v * (a - b - c + d);
-  }
-  std::uint32_t seed_;
-};
-
-double clamp01(double v) {
-  return std::min(1.0, std::max(0.0, v));
-}
-
-void setTexel(mli::MLILayer& layer, std::size_t p, double depth, double r, double g, double b,
-              double a) {
-  layer.depth[p] = static_cast<float>(depth);
-  layer.rgba[4 * p + 0] = static_cast<float>(clamp01(r));
-  layer.rgba[4 * p + 1] = static_cast<float>(clamp01(g));
-  layer.rgba[4 * p + 2] = static_cast<float>(clamp01(b));
-  layer.rgba[4 * p + 3] = static_cast<float>(clamp01(a));
-}
-
-// A forward-facing scene as SIMPLI's layers look (layer 0 farthest): an opaque background
-// receding towards the top (a slanted surface with fine texture), rolling hills over part of
-// the image, round objects with curved depth and soft edges, and sparse foliage near the
-// camera. Depths are ordered per texel (each layer nearer than the one behind it).
-mli::MLI syntheticMLI(int W, int H) {
-  scene::Camera ref;
-  ref.fx = 0.9;
-  ref.fy = 0.9 * W / H;
-  ref.width = W;
-  ref.height = H;
-  mli::MLI mli = mli::MLI::allocate(ref, 4);
-  const ValueNoise noise(20230101u);
-  const double scale = W / 1008.0; // features keep their size in the image
-  for (int i = 0; i < H; ++i)
-    for (int j = 0; j < W; ++j) {
-      const std::size_t p = static_cast<std::size_t>(i) * W + j;
-      const double u = j / (W - 1.0), v = i / (H - 1.0);
-      const double n1 = noise(j, i, 40 * scale, 4), n2 = noise(j + 500, i, 12 * scale, 3);
-      // Background: 1/z from 1/40 at the top to 1/12 at the bottom.
-      setTexel(mli.layers[0], p, 1.0 / (0.025 + 0.058 * v), 0.3 + 0.5 * n1, 0.45 + 0.3 * n2,
-               0.6 - 0.4 * v + 0.2 * n2, 1.0);
-      // Hills: depth 7..9, visible where a coarse noise is high, with a soft edge.
-      const double hill = noise(j + 2000, i + 100, 160 * scale, 2);
-      setTexel(mli.layers[1], p, 8.0 + std::sin(4 * u) * std::cos(3 * v), 0.25 + 0.4 * n2,
-               0.5 + 0.3 * n1, 0.2, (hill - 0.45) * 12.0);
-      // Round objects (spheres seen head-on): depth 3.5..4.5, soft 3-texel edges.
-      double depth2 = 4.5, alpha2 = 0.0, shade = 0.0;
-      for (const auto& [cu, cv, radius] :
-           {std::array<double, 3>{0.3, 0.6, 0.12}, std::array<double, 3>{0.7, 0.45, 0.09},
-            std::array<double, 3>{0.55, 0.8, 0.07}}) {
-        const double r = std::hypot((u - cu) * W, (v - cv) * H) / (radius * W);
-        const double edge = clamp01((1.0 - r) * radius * W / 3.0);
-        if (edge > alpha2) {
-          alpha2 = edge;
-          depth2 = 4.5 - std::sqrt(std::max(0.0, 1.0 - r * r));
-          shade = 1.0 - 0.5 * r;
-        }
-      }
-      setTexel(mli.layers[2], p, depth2, 0.8 * shade + 0.2 * n2, 0.3 * shade, 0.35 * n1, alpha2);
-      // Foliage: depth 2..2.4 in the top-left third, alpha from fine noise.
-      const double leaf = noise(j + 4000, i + 3000, 6 * scale, 2);
-      const double region = clamp01((0.45 - std::hypot(u - 0.1, v - 0.15)) * 8.0);
-      setTexel(mli.layers[3], p, 2.0 + 0.4 * u, 0.2 + 0.3 * leaf, 0.55 + 0.3 * n2, 0.15,
-               region * clamp01((leaf - 0.5) * 6.0) * 0.9);
-    }
-  return mli;
-}
 
 // ---- the two forms -----------------------------------------------------------------------
 
@@ -320,15 +237,158 @@ double fillUnits(const Timing& t, const Timing& unit) {
   return n % 2 ? ratios[n / 2] : 0.5 * (ratios[n / 2 - 1] + ratios[n / 2]);
 }
 
-double psnrAgainst(const Timing& a, const Timing& reference) {
+// Writes interleaved RGB in [0, 1] (row 0 = top) as DIR/NAME_sampleS.png (8-bit).
+void saveImages(const BenchRenderOptions& o, const std::string& name, const Timing& t, int W,
+                int H) {
+  if (o.saveImages.empty())
+    return;
+  std::filesystem::create_directories(o.saveImages);
+  std::string stem = name;
+  std::replace(stem.begin(), stem.end(), ' ', '_');
+  for (std::size_t s = 0; s < t.images.size(); ++s) {
+    cv::Mat bgr(H, W, CV_8UC3);
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        for (int c = 0; c < 3; ++c) // OpenCV stores BGR
+          bgr.at<cv::Vec3b>(y, x)[2 - c] = cv::saturate_cast<unsigned char>(
+              255.0 * t.images[s][3 * (static_cast<std::size_t>(y) * W + x) + c] + 0.5);
+    const std::string path = o.saveImages + "/" + stem + "_sample" + std::to_string(s) + ".png";
+    if (!cv::imwrite(path, bgr))
+      fail("--save-images: cannot write ", path);
+  }
+}
+
+// ---- the OpenCL rasterizer ---------------------------------------------------------------
+
+double psnrAgainst(const Timing& a, const Timing& reference, int W, int H,
+                   const std::vector<std::vector<std::uint8_t>>* masks = nullptr);
+
+// Median wall time (ms) of `render` over the first frames of the orbit (at most `budget` s), and
+// its RGB at the sample cameras, interleaved like the VTK images.
+template <typename Render>
+std::pair<double, Timing> timeRaster(Render&& render, const std::vector<scene::Camera>& cameras,
+                                     const std::vector<std::size_t>& samples, int frames,
+                                     double budget) {
+  render(cameras[0]); // warm-up: kernel compilation, buffer pool
+  Timing t;
+  std::vector<double> ms;
+  const auto start = Clock::now();
+  for (int f = 0;
+       f < frames && std::chrono::duration<double>(Clock::now() - start).count() <= budget; ++f) {
+    const auto t0 = Clock::now();
+    render(cameras[static_cast<std::size_t>(f) % cameras.size()]);
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  t.frames = static_cast<int>(ms.size());
+  for (std::size_t s : samples) {
+    const std::vector<float> planar = render(cameras[s]);
+    const std::size_t n = planar.size() / 3;
+    std::vector<float> rgb(planar.size());
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t c = 0; c < 3; ++c)
+        rgb[3 * p + c] = planar[c * n + p];
+    t.images.push_back(std::move(rgb));
+  }
+  std::sort(ms.begin(), ms.end());
+  return {ms[ms.size() / 2], t};
+}
+
+// Per sample camera, the pixels whose farthest per-texel fragment is on the back layer (layer
+// 0): elsewhere (past the back layer's edge, seen from an orbit camera) the farthest-fragment
+// rule shows whatever front-layer texel is there, transparent ones included in the per-texel
+// form but not in the adaptive one, so the two forms differ by design.
+std::vector<std::vector<std::uint8_t>> backLayerMasks(const raster::MLITensors& tensors,
+                                                      const mli::MLI& mli,
+                                                      const std::vector<scene::Camera>& cameras,
+                                                      const std::vector<std::size_t>& samples,
+                                                      const raster::RasterSettings& settings) {
+  std::vector<std::vector<std::uint8_t>> masks;
+  for (std::size_t s : samples) {
+    const raster::RasterFragments f =
+        raster::rasterizeLayers(tensors.depth, mli.camera, cameras[s], settings);
+    const std::vector<double> layer = f.layerIndex().toVector();
+    const std::size_t n = static_cast<std::size_t>(f.targetHeight) * f.targetWidth;
+    std::vector<std::uint8_t> mask(n, 0);
+    for (std::size_t p = 0; p < n; ++p) {
+      double farthest = -1;
+      for (int k = 0; k < f.maxFragments; ++k)
+        if (layer[k * n + p] >= 0)
+          farthest = layer[k * n + p];
+      mask[p] = farthest == 0;
+    }
+    masks.push_back(std::move(mask));
+  }
+  return masks;
+}
+
+void benchRaster(const mli::MLI& mli, const std::vector<scene::Camera>& cameras,
+                 const std::vector<std::size_t>& samples, const BenchRenderOptions& o) {
+  if (!o.device.empty()) {
+    const auto [platform, device] = ocl::Device::parseSelector(o.device, "--device");
+    ocl::Device::select(platform, device);
+  }
+  ocl::NoGradGuard noGrad;
+  const int W = cameras[0].width, H = cameras[0].height;
+  std::printf("\nOpenCL rasterizer on %s (median of up to %d frames, at most %.0f s per form; "
+              "per-texel: the differentiable rasterizer, 16 fragments, perspective-correct; "
+              "adaptive: raster/render_adaptive.h; PSNR where the back layer is seen)\n",
+              ocl::Device::current().info().deviceName.c_str(), std::min(o.frames, 10),
+              o.maxSeconds);
+  std::printf("%-22s %9s %10s %8s %9s %14s\n", "form", "build ms", "triangles", "fps", "ms/frame",
+              "PSNR/per-texel");
+  const raster::MLITensors tensors = raster::mliTensors(mli);
+  raster::RasterSettings perspective; // as OpenGL interpolates
+  perspective.interpolation = raster::RasterInterpolation::PerspectiveCorrect;
+  auto perTexel = [&](const scene::Camera& c) {
+    return raster::renderLayers(tensors.depth, tensors.rgba, mli.camera, c, perspective)
+        .colour.toVectorF32();
+  };
+  const auto [perTexelMs, perTexelTiming] =
+      timeRaster(perTexel, cameras, samples, std::min(o.frames, 10), o.maxSeconds);
+  const auto masks = backLayerMasks(tensors, mli, cameras, samples, perspective);
+  saveImages(o, "raster per-texel", perTexelTiming, W, H);
+  std::printf("%-22s %9s %10lld %8.2f %9.1f %14s\n", "per-texel", "-",
+              static_cast<long long>(mli.numLayers()) * 2 * (mli.height() - 1) * (mli.width() - 1),
+              1000.0 / perTexelMs, perTexelMs, "-");
+  for (double tolerance : o.tolerances) {
+    mli::AdaptiveMeshOptions options;
+    options.tolerancePixels = tolerance;
+    const auto t0 = Clock::now();
+    const raster::AdaptiveRenderer renderer(raster::buildAdaptiveMLI(mli, options));
+    const double buildMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    auto render = [&](const scene::Camera& c) { return renderer.render(c).colour.toVectorF32(); };
+    const auto [ms, timing] =
+        timeRaster(render, cameras, samples, std::min(o.frames, 10), o.maxSeconds);
+    char name[64], psnr[32];
+    std::snprintf(name, sizeof name, "adaptive %.3g px", tolerance);
+    std::snprintf(psnr, sizeof psnr, "%.2f dB", psnrAgainst(timing, perTexelTiming, W, H, &masks));
+    saveImages(o, std::string("raster ") + name, timing, W, H);
+    std::printf("%-22s %9.1f %10zu %8.2f %9.1f %14s\n", name, buildMs,
+                renderer.adaptive().numTriangles(), 1000.0 / ms, ms, psnr);
+    std::fflush(stdout);
+  }
+}
+
+// PSNR of `a`'s images against `reference`'s over the paper's central crop (90 % of the area):
+// at the image border an orbit camera sees past the back layer, where the rasterizer's
+// farthest-fragment rule makes whatever front-layer fragment is there opaque, the per-texel
+// form's transparent texels included.
+double psnrAgainst(const Timing& a, const Timing& reference, int W, int H,
+                   const std::vector<std::vector<std::uint8_t>>* masks) {
+  const metrics::CropWindow crop = metrics::centralCrop(W, H);
   double se = 0;
   std::size_t n = 0;
   for (std::size_t s = 0; s < a.images.size(); ++s)
-    for (std::size_t i = 0; i < a.images[s].size(); ++i) {
-      const double d = static_cast<double>(a.images[s][i]) - reference.images[s][i];
-      se += d * d;
-      ++n;
-    }
+    for (int y = crop.y; y < crop.y + crop.height; ++y)
+      for (int x = crop.x; x < crop.x + crop.width; ++x)
+        for (int c = 0; c < 3; ++c) {
+          if (masks && !(*masks)[s][static_cast<std::size_t>(y) * W + x])
+            continue;
+          const std::size_t i = 3 * (static_cast<std::size_t>(y) * W + x) + c;
+          const double d = static_cast<double>(a.images[s][i]) - reference.images[s][i];
+          se += d * d;
+          ++n;
+        }
   return se == 0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(n / se);
 }
 
@@ -426,10 +486,11 @@ void runBenchRender(BenchRenderOptions o) {
   const std::vector<Timing> timings = timeForms(forms, cameras, samples, nearZ, farZ, o);
   for (std::size_t f = 0; f < forms.size(); ++f) {
     const Timing& t = timings[f];
+    saveImages(o, "vtk " + forms[f].name, t, W, H);
     const double ms = 1000.0 * t.seconds / t.frames;
     char psnr[32] = "-";
     if (f > 1)
-      std::snprintf(psnr, sizeof psnr, "%.2f dB", psnrAgainst(t, timings[1]));
+      std::snprintf(psnr, sizeof psnr, "%.2f dB", psnrAgainst(t, timings[1], W, H));
     std::printf("%-22s %9.1f %10lld %10lld %8.2f %8.2f %9.2f %9.2f %7d %6.2f %14s\n",
                 forms[f].name.c_str(), forms[f].buildMs, forms[f].triangles, forms[f].points,
                 forms[f].bytes / 1048576.0, 1000.0 / ms, ms, 1000.0 * t.cpuSeconds / t.frames,
@@ -439,6 +500,8 @@ void runBenchRender(BenchRenderOptions o) {
               "window) in the same round (median of %zu rounds); the same on any machine to the "
               "extent that both are fill-bound\n",
               std::min<std::size_t>(5, cameras.size()));
+  if (o.raster)
+    benchRaster(mli, cameras, samples, o);
   std::printf("load average at end: %s\n", loadAverage().c_str());
 }
 
@@ -465,6 +528,12 @@ void addBenchRenderCommand(CLI::App& bench) {
       ->capture_default_str();
   cmd->add_option("--save-mli", o->saveMli,
                   "Also write the MLI measured (e.g. the synthetic one) here, lossless form");
+  cmd->add_option("--save-images", o->saveImages,
+                  "Write every form's images at the 4 sample cameras here (PNG)");
+  cmd->add_flag("--raster", o->raster,
+                "Also time the OpenCL rasterizer (per-texel and adaptive) at the same cameras");
+  cmd->add_option("--device", o->device,
+                  "OpenCL device for --raster as platform:device (see simpli devices)");
   cmd->callback([o] { runBenchRender(*o); });
 }
 

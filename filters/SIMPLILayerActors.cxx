@@ -17,6 +17,7 @@
 #include <vtkRenderStepsPass.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkShaderProperty.h>
 #include <vtkTexture.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
@@ -76,6 +77,13 @@ vtkSmartPointer<vtkActor> layerActor(vtkPolyData* layer, bool opaque) {
     texture->MipmapOff();
     texture->PremultipliedAlphaOff(); // the MLI's RGBA is straight
     actor->SetTexture(texture);
+    // The fragment colour is the texel: VTK's own texture code multiplies it with the lit
+    // colour (white here) and discards alpha-0 fragments, and the discard keeps llvmpipe from
+    // testing depth before shading (measured: 4 translucent textured layers at 1024x768, 58 ->
+    // 42 ms of CPU per frame; a discard changes nothing visible with depth writes off).
+    actor->GetShaderProperty()->AddFragmentShaderReplacement(
+        "//VTK::TCoord::Impl", true, "fragOutput0 = texture(actortexture, tcoordVCVSOutput);\n",
+        false);
   } else {
     vtkPolyData* input = layer;
     vtkNew<vtkPolyData> copy;

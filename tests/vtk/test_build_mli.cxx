@@ -296,6 +296,16 @@ TEST(BuildMLI, AutoLayersAndMeshOptionsReuseTheForwardPass) {
   ASSERT_NE(pd, nullptr);
   EXPECT_EQ(pd->GetNumberOfPoints(), 192 * 128);
   EXPECT_LT(pd->GetNumberOfPolys(), 2 * 191 * 127);
+  // Adaptive meshes: also without rerunning the network; the texels travel in the field data.
+  f->SetMeshMode(vtkSIMPLIBuildMLI::MESH_ADAPTIVE);
+  ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();
+  EXPECT_EQ(stringValues(outputOf(f)->GetFieldData(), "StageNames"), reused);
+  pd = layer(outputOf(f), 0);
+  ASSERT_NE(pd, nullptr);
+  EXPECT_LT(pd->GetNumberOfPolys(), 191 * 127);
+  ASSERT_NE(pd->GetFieldData()->GetArray("TextureDepth"), nullptr);
+  EXPECT_EQ(pd->GetFieldData()->GetArray("TextureDepth")->GetNumberOfTuples(), 192 * 128);
+  f->SetMeshMode(vtkSIMPLIBuildMLI::MESH_PER_TEXEL);
   // A different source view list runs the network again.
   f->SetSourceViews("0,5");
   ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();

@@ -6,7 +6,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 #include "mli/adaptive_mesh_internal.h"
 #include "simpli/error.h"
@@ -82,6 +81,9 @@ double LayerGrid::twoTriangleDisparity(const Cell& c, double x, double y) const 
   const double s = (x - c.x0) / (c.x1 - c.x0), t = (y - c.y0) / (c.y1 - c.y0);
   const double tl = disparity[index(c.x0, c.y0)], tr = disparity[index(c.x1, c.y0)];
   const double bl = disparity[index(c.x0, c.y1)], br = disparity[index(c.x1, c.y1)];
+  if (c.flip) // diagonal bottom-left to top-right: (TL, BL, TR) above it, (BL, BR, TR) below
+    return s + t <= 1 ? tl + s * (tr - tl) + t * (bl - tl)
+                      : br + (1 - s) * (bl - br) + (1 - t) * (tr - br);
   // Diagonal top-left to bottom-right: (TL, BL, BR) below it, (TL, BR, TR) above it.
   return t >= s ? tl + t * (bl - tl) + s * (br - bl) : tl + s * (tr - tl) + t * (br - tr);
 }
@@ -90,8 +92,11 @@ bool LayerGrid::twoTrianglesFit(const Cell& c) const {
   const double tl = 1.0 / disparity[index(c.x0, c.y0)], tr = 1.0 / disparity[index(c.x1, c.y0)];
   const double bl = 1.0 / disparity[index(c.x0, c.y1)], br = 1.0 / disparity[index(c.x1, c.y1)];
   const double diagonal = std::hypot(c.x1 - c.x0, c.y1 - c.y0);
-  for (const double third : {bl, tr}) { // (TL, BL, BR) and (TL, BR, TR)
-    const double zMin = std::min({tl, br, third}), zMax = std::max({tl, br, third});
+  // The two triangles share the diagonal's ends and each has one of the other corners.
+  const double a = c.flip ? bl : tl, b = c.flip ? tr : br;
+  for (const double third :
+       c.flip ? std::array<double, 2>{tl, br} : std::array<double, 2>{bl, tr}) {
+    const double zMin = std::min({a, b, third}), zMax = std::max({a, b, third});
     if (textureSwimBound(diagonal, zMin, zMax) > textureTolerance)
       return false;
   }
@@ -109,7 +114,10 @@ bool LayerGrid::twoTrianglesFit(const Cell& c) const {
 namespace {
 
 using adaptive::Cell;
+using adaptive::edgeFunction;
 using adaptive::LayerGrid;
+using adaptive::PolygonPoint;
+using adaptive::Triangle;
 
 std::vector<Cell> children(const Cell& c) {
   const int w = c.x1 - c.x0, h = c.y1 - c.y0;
@@ -123,7 +131,7 @@ std::vector<Cell> children(const Cell& c) {
 }
 
 // Appends the leaves of cell `c` (top-down refinement, see the header's rules).
-void refine(const LayerGrid& g, const Cell& c, int mixedCellSize, std::vector<Cell>& leaves) {
+void refine(const LayerGrid& g, const Cell& c, int maxTransparentQuads, std::vector<Cell>& leaves) {
   const int w = c.x1 - c.x0, h = c.y1 - c.y0;
   const std::int64_t visible = g.visibleQuads.sum(c.x0, c.y0, c.x1, c.y1);
   if (visible == 0)
@@ -133,70 +141,18 @@ void refine(const LayerGrid& g, const Cell& c, int mixedCellSize, std::vector<Ce
     leaves.push_back({c.x0, c.y0, c.x1, c.y1, cut});
     return;
   }
-  const bool mixed = visible < static_cast<std::int64_t>(w) * h;
-  if (!cut && !(mixed && std::max(w, h) > mixedCellSize) && g.twoTrianglesFit(c)) {
-    leaves.push_back(c);
-    return;
-  }
+  const std::int64_t transparent = static_cast<std::int64_t>(w) * h - visible;
+  if (!cut && transparent <= maxTransparentQuads)
+    for (const bool flip : {false, true}) {
+      const Cell leaf{c.x0, c.y0, c.x1, c.y1, false, flip};
+      if (g.twoTrianglesFit(leaf)) {
+        leaves.push_back(leaf);
+        return;
+      }
+    }
   for (const Cell& child : children(c))
-    refine(g, child, mixedCellSize, leaves);
+    refine(g, child, maxTransparentQuads, leaves);
 }
-
-// Vertices of the mesh being built. Positions are on the doubled grid (X, Y) = (2x, 2y), so
-// half-grid points of cut quads and of thin fan centres are integers too. Shared positions
-// (cell corners, midpoints of continuous edges) have one vertex; the two sides of a cut edge
-// and the centres of a cut quad's sides have their own.
-class VertexRegistry {
-public:
-  VertexRegistry(const MLI& mli, AdaptiveLayerMesh& mesh)
-      : mli_(mli), mesh_(mesh), W2_(2 * mli.width() - 1),
-        shared_(static_cast<std::size_t>(W2_) * (2 * mli.height() - 1), -1) {}
-
-  std::int32_t shared(int X, int Y, double disparity) {
-    std::int32_t& id = shared_[static_cast<std::size_t>(Y) * W2_ + X];
-    if (id < 0)
-      id = add(X, Y, disparity);
-    return id;
-  }
-  // The vertex of cut-edge midpoint (X, Y) on the side of the corner `side` (a texel index).
-  std::int32_t side(int X, int Y, std::size_t side, double disparity) {
-    const std::int64_t key =
-        (static_cast<std::int64_t>(Y) * W2_ + X) * static_cast<std::int64_t>(mli_.texels()) +
-        static_cast<std::int64_t>(side);
-    auto [it, inserted] = sides_.try_emplace(key, -1);
-    if (inserted)
-      it->second = add(X, Y, disparity);
-    return it->second;
-  }
-  std::int32_t unique(int X, int Y, double disparity) { return add(X, Y, disparity); }
-
-private:
-  std::int32_t add(int X, int Y, double disparity) {
-    const scene::Camera& cam = mli_.camera;
-    const double x = 0.5 * X, y = 0.5 * Y, d = 1.0 / disparity;
-    const double u = x / (cam.width - 1), v = y / (cam.height - 1);
-    const Eigen::Vector3d xw = cam.backproject({u, v}, d);
-    mesh_.points.insert(mesh_.points.end(), {static_cast<float>(xw.x()), static_cast<float>(xw.y()),
-                                             static_cast<float>(xw.z())});
-    mesh_.grid.insert(mesh_.grid.end(), {static_cast<float>(x), static_cast<float>(y)});
-    mesh_.depth.push_back(static_cast<float>(d));
-    if (mesh_.depth.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
-      fail("adaptive mesh: more than 2^31 vertices");
-    return static_cast<std::int32_t>(mesh_.depth.size() - 1);
-  }
-
-  const MLI& mli_;
-  AdaptiveLayerMesh& mesh_;
-  int W2_;
-  std::vector<std::int32_t> shared_;
-  std::unordered_map<std::int64_t, std::int32_t> sides_;
-};
-
-// A point of a leaf's boundary polygon or fan: doubled-grid position and 1/d.
-struct PolygonPoint {
-  int X, Y;
-  double disparity;
-};
 
 // The positions (doubled grid) that lie on some leaf's boundary: cell corners and the
 // midpoints of a cut quad's continuous edges.
@@ -265,28 +221,37 @@ PolygonPoint fanCentre(const LayerGrid& g, const Cell& c) {
   return {X, Y, g.twoTriangleDisparity(c, 0.5 * X, 0.5 * Y)};
 }
 
-using Triangle = std::array<PolygonPoint, 3>;
-
-// The triangles of a continuous leaf: two when its polygon is its four corners, else a fan.
-std::vector<Triangle> leafTriangles(const LayerGrid& g, const Cell& c,
-                                    const std::vector<PolygonPoint>& polygon) {
-  if (polygon.size() == 4) {
+// A leaf's triangulations, best first: two triangles when its polygon is its four corners;
+// else a fan from a corner whose two edges carry no other vertex (n - 2 triangles), then a
+// fan from its centre (n triangles).
+std::vector<std::vector<Triangle>> leafTriangulations(const LayerGrid& g, const Cell& c,
+                                                      const std::vector<PolygonPoint>& polygon) {
+  const std::size_t n = polygon.size();
+  if (n == 4) {
     const PolygonPoint &tl = polygon[0], &bl = polygon[1], &br = polygon[2], &tr = polygon[3];
-    return {Triangle{tl, bl, br}, Triangle{tl, br, tr}};
+    if (c.flip)
+      return {{Triangle{tl, bl, tr}, Triangle{bl, br, tr}}};
+    return {{Triangle{tl, bl, br}, Triangle{tl, br, tr}}};
+  }
+  auto isCorner = [&](const PolygonPoint& p) {
+    return (p.X == 2 * c.x0 || p.X == 2 * c.x1) && (p.Y == 2 * c.y0 || p.Y == 2 * c.y1);
+  };
+  std::vector<std::vector<Triangle>> out;
+  for (std::size_t k = 0; k < n && out.empty(); ++k) {
+    if (!isCorner(polygon[k]) || !isCorner(polygon[(k + 1) % n]) ||
+        !isCorner(polygon[(k + n - 1) % n]))
+      continue;
+    std::vector<Triangle> fan;
+    for (std::size_t i = 1; i + 1 < n; ++i)
+      fan.push_back({polygon[k], polygon[(k + i) % n], polygon[(k + i + 1) % n]});
+    out.push_back(std::move(fan));
   }
   const PolygonPoint centre = fanCentre(g, c);
   std::vector<Triangle> fan;
-  for (std::size_t k = 0; k < polygon.size(); ++k)
-    fan.push_back({centre, polygon[k], polygon[(k + 1) % polygon.size()]});
-  return fan;
-}
-
-// Twice the signed area of (a, b, p) on the doubled grid (positive inside a triangle wound as
-// the mesh's triangles: y points down, so this winding is clockwise on screen).
-std::int64_t edgeFunction(const PolygonPoint& a, const PolygonPoint& b, std::int64_t X,
-                          std::int64_t Y) {
-  return (static_cast<std::int64_t>(b.Y) - a.Y) * (X - a.X) -
-         (static_cast<std::int64_t>(b.X) - a.X) * (Y - a.Y);
+  for (std::size_t k = 0; k < n; ++k)
+    fan.push_back({centre, polygon[k], polygon[(k + 1) % n]});
+  out.push_back(std::move(fan));
+  return out;
 }
 
 // Largest |1/d - surface| over the visible texels inside triangle t (closed).
@@ -329,106 +294,6 @@ double triangleSwim(const Triangle& t) {
   return adaptive::textureSwimBound(0.5 * std::hypot(dx, dy), 1.0 / dMax, 1.0 / dMin);
 }
 
-// True when some visible texel quad overlaps the interior of triangle t (separating axes on
-// the doubled grid: the quad's box against the triangle's bounding box and its three edges).
-bool coversVisibleQuad(const LayerGrid& g, const Triangle& t) {
-  const int qx0 = std::min({t[0].X, t[1].X, t[2].X}) / 2;
-  const int qx1 = (std::max({t[0].X, t[1].X, t[2].X}) + 1) / 2; // exclusive quad bounds
-  const int qy0 = std::min({t[0].Y, t[1].Y, t[2].Y}) / 2;
-  const int qy1 = (std::max({t[0].Y, t[1].Y, t[2].Y}) + 1) / 2;
-  if (g.visibleQuads.sum(qx0, qy0, qx1, qy1) == 0)
-    return false;
-  const std::int64_t area = edgeFunction(t[0], t[1], t[2].X, t[2].Y);
-  if (area == 0)
-    return false;
-  const int sign = area > 0 ? 1 : -1;
-  for (int qy = qy0; qy < qy1; ++qy)
-    for (int qx = qx0; qx < qx1; ++qx) {
-      if (g.visibleQuads.sum(qx, qy, qx + 1, qy + 1) == 0)
-        continue;
-      bool separated = false;
-      for (int e = 0; e < 3 && !separated; ++e) {
-        const PolygonPoint &a = t[e], &b = t[(e + 1) % 3];
-        std::int64_t best = std::numeric_limits<std::int64_t>::min();
-        for (int cy = 0; cy <= 1; ++cy)
-          for (int cx = 0; cx <= 1; ++cx)
-            best = std::max(best, sign * edgeFunction(a, b, 2 * (qx + cx), 2 * (qy + cy)));
-        separated = best <= 0; // the whole quad is on the outer side of (or on) this edge
-      }
-      if (!separated)
-        return true;
-    }
-  return false;
-}
-
-// Emits the eight quarter triangles of cut quad `c` (see the header).
-void emitCutQuad(const LayerGrid& g, const Cell& c, VertexRegistry& vertices,
-                 AdaptiveLayerMesh& mesh) {
-  // Corners in winding order TL, BL, BR, TR; edge e joins corner e and corner e + 1.
-  const int cx[4] = {c.x0, c.x0, c.x1, c.x1}, cy[4] = {c.y0, c.y1, c.y1, c.y0};
-  const bool edgeCut[4] = {g.cutV[g.index(c.x0, c.y0)] != 0, g.cutH[g.hIndex(c.x0, c.y1)] != 0,
-                           g.cutV[g.index(c.x1, c.y0)] != 0, g.cutH[g.hIndex(c.x0, c.y0)] != 0};
-  std::size_t texel[4];
-  double disparity[4];
-  std::int32_t corner[4];
-  for (int k = 0; k < 4; ++k) {
-    texel[k] = g.index(cx[k], cy[k]);
-    disparity[k] = g.disparity[texel[k]];
-    corner[k] = vertices.shared(2 * cx[k], 2 * cy[k], disparity[k]);
-  }
-  // Sides: corners joined along the cycle by continuous edges.
-  int sideOf[4] = {0, 1, 2, 3};
-  for (bool changed = true; changed;) {
-    changed = false;
-    for (int e = 0; e < 4; ++e) {
-      const int a = e, b = (e + 1) % 4;
-      if (!edgeCut[e] && sideOf[a] != sideOf[b]) {
-        sideOf[a] = sideOf[b] = std::min(sideOf[a], sideOf[b]);
-        changed = true;
-      }
-    }
-  }
-  std::int32_t centre[4] = {-1, -1, -1, -1};
-  for (int s = 0; s < 4; ++s) {
-    double sum = 0;
-    int n = 0;
-    for (int k = 0; k < 4; ++k)
-      if (sideOf[k] == s) {
-        sum += disparity[k];
-        ++n;
-      }
-    if (n > 0)
-      centre[s] = vertices.unique(c.x0 + c.x1, c.y0 + c.y1, sum / n);
-  }
-  // Midpoint of edge e as seen from corner k (one of its ends).
-  auto midpoint = [&](int e, int k) {
-    const int a = e, b = (e + 1) % 4;
-    const int X = cx[a] + cx[b], Y = cy[a] + cy[b];
-    if (!edgeCut[e])
-      return vertices.shared(X, Y, 0.5 * (disparity[a] + disparity[b]));
-    return vertices.side(X, Y, texel[k], disparity[k]);
-  };
-  for (int k = 0; k < 4; ++k) {
-    const std::int32_t after = midpoint(k, k), before = midpoint((k + 3) % 4, k);
-    const std::int32_t mid = centre[sideOf[k]];
-    mesh.triangles.insert(mesh.triangles.end(), {corner[k], after, mid, corner[k], mid, before});
-  }
-}
-
-void emitLeaf(const LayerGrid& g, const Cell& c, const std::vector<Triangle>& triangles,
-              VertexRegistry& vertices, AdaptiveLayerMesh& mesh) {
-  const bool allVisible = g.visibleQuads.sum(c.x0, c.y0, c.x1, c.y1) ==
-                          static_cast<std::int64_t>(c.x1 - c.x0) * (c.y1 - c.y0);
-  auto id = [&](const PolygonPoint& p) {
-    // Fan centres are inside the leaf, never on another leaf: shared() is still right (each
-    // position is used by one leaf only), and keeps one code path.
-    return vertices.shared(p.X, p.Y, p.disparity);
-  };
-  for (const Triangle& t : triangles)
-    if (allVisible || coversVisibleQuad(g, t))
-      mesh.triangles.insert(mesh.triangles.end(), {id(t[0]), id(t[1]), id(t[2])});
-}
-
 } // namespace
 
 void validateAdaptiveMeshOptions(const AdaptiveMeshOptions& o) {
@@ -442,8 +307,8 @@ void validateAdaptiveMeshOptions(const AdaptiveMeshOptions& o) {
          ", expected a value > 0 (infinity: never cut)");
   if (!(o.alphaThreshold >= 0 && o.alphaThreshold <= 1))
     fail("adaptive mesh: alphaThreshold = ", o.alphaThreshold, ", expected a value in [0, 1]");
-  if (o.mixedCellSize < 1)
-    fail("adaptive mesh: mixedCellSize = ", o.mixedCellSize, ", expected >= 1");
+  if (o.maxTransparentQuads < 0)
+    fail("adaptive mesh: maxTransparentQuads = ", o.maxTransparentQuads, ", expected >= 0");
 }
 
 double defaultCameraOffset(const MLI& mli) {
@@ -471,7 +336,7 @@ AdaptiveLayerMesh buildAdaptiveLayerMesh(const MLI& mli, int k,
   const LayerGrid g(mli, k, options);
 
   std::vector<Cell> leaves;
-  refine(g, {0, 0, g.W - 1, g.H - 1, false}, options.mixedCellSize, leaves);
+  refine(g, {0, 0, g.W - 1, g.H - 1, false}, options.maxTransparentQuads, leaves);
   // Fans (leaves whose neighbours put vertices on their edges) are checked against the
   // tolerance; those that miss it are split, which may turn neighbours into fans: repeat.
   AdaptiveLayerMesh mesh;
@@ -488,35 +353,33 @@ AdaptiveLayerMesh buildAdaptiveLayerMesh(const MLI& mli, int k,
         triangles.emplace_back();
         continue;
       }
-      std::vector<Triangle> t = leafTriangles(g, c, boundaryPolygon(g, c, mark));
+      // Two triangles were checked by refine (and 1 x 1 quads are exact): take the first
+      // triangulation that fits.
       const bool single = c.x1 - c.x0 == 1 && c.y1 - c.y0 == 1;
-      bool fits = true;
-      if (t.size() > 2 && !single)
-        for (const Triangle& tri : t)
-          fits = fits && triangleError(g, tri) <= g.disparityTolerance &&
-                 triangleSwim(tri) <= g.textureTolerance;
-      if (fits) {
-        next.push_back(c);
-        triangles.push_back(std::move(t));
-        continue;
+      bool placed = false;
+      for (std::vector<Triangle>& t : leafTriangulations(g, c, boundaryPolygon(g, c, mark))) {
+        bool fits = true;
+        if (t.size() > 2 && !single)
+          for (const Triangle& tri : t)
+            fits = fits && triangleError(g, tri) <= g.disparityTolerance &&
+                   triangleSwim(tri) <= g.textureTolerance;
+        if (fits) {
+          next.push_back(c);
+          triangles.push_back(std::move(t));
+          placed = true;
+          break;
+        }
       }
+      if (placed)
+        continue;
       settled = false;
       for (const Cell& child : children(c))
-        refine(g, child, options.mixedCellSize, next);
+        refine(g, child, options.maxTransparentQuads, next);
     }
     leaves = std::move(next);
   }
 
-  VertexRegistry vertices(mli, mesh);
-  for (std::size_t l = 0; l < leaves.size(); ++l) {
-    if (leaves[l].cut) {
-      emitCutQuad(g, leaves[l], vertices, mesh);
-      ++mesh.cutQuads;
-    } else {
-      emitLeaf(g, leaves[l], triangles[l], vertices, mesh);
-    }
-  }
-  mesh.leaves = leaves.size();
+  adaptive::emitLeaves(g, mli, leaves, triangles, mesh);
   return mesh;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The adaptive mesh builder's view of one layer (mli/adaptive_mesh.h): 1/d, visibility and
 // discontinuous texel edges on the corner grid, with summed-area tables for cell queries.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -38,7 +39,8 @@ private:
 /// A quadtree cell: the texel quads [x0, x1) x [y0, y1), i.e. grid points x0..x1, y0..y1.
 struct Cell {
   int x0, y0, x1, y1;
-  bool cut; ///< a single quad with a discontinuous edge (emitted as quarters)
+  bool cut;          ///< a single quad with a discontinuous edge (emitted as quarters)
+  bool flip = false; ///< two triangles on the diagonal bottom-left to top-right
 };
 
 struct LayerGrid {
@@ -59,7 +61,7 @@ struct LayerGrid {
   std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * W + x; }
   std::size_t hIndex(int x, int y) const { return static_cast<std::size_t>(y) * (W - 1) + x; }
 
-  /// 1/d of the cell's two triangles (corners only, diagonal top-left to bottom-right) at grid
+  /// 1/d of the cell's two triangles (corners only, on the diagonal c.flip says) at grid
   /// position (x, y) inside the cell.
   double twoTriangleDisparity(const Cell& c, double x, double y) const;
   /// Whether the two triangles are within the tolerance at every visible texel of the cell and
@@ -69,5 +71,28 @@ struct LayerGrid {
 private:
   void markDiscontinuities(double discontinuityPixels);
 };
+
+/// A point of a leaf's boundary polygon or fan: position on the doubled grid (X, Y) = (2x, 2y),
+/// so that half-grid points are integers too, and 1/d.
+struct PolygonPoint {
+  int X, Y;
+  double disparity;
+};
+
+using Triangle = std::array<PolygonPoint, 3>;
+
+/// Twice the signed area of (a, b, p) on the doubled grid (positive inside a triangle wound as
+/// the mesh's triangles: y points down, so this winding is clockwise on screen).
+inline std::int64_t edgeFunction(const PolygonPoint& a, const PolygonPoint& b, std::int64_t X,
+                                 std::int64_t Y) {
+  return (static_cast<std::int64_t>(b.Y) - a.Y) * (X - a.X) -
+         (static_cast<std::int64_t>(b.X) - a.X) * (Y - a.Y);
+}
+
+/// Appends the vertices and triangles of `leaves` to `mesh` (adaptive_mesh_emit.cpp): cut
+/// quads as their quarters, the others as `triangles[l]` without those that cover no visible
+/// quad; counts leaves and cut quads.
+void emitLeaves(const LayerGrid& g, const MLI& mli, const std::vector<Cell>& leaves,
+                const std::vector<std::vector<Triangle>>& triangles, AdaptiveLayerMesh& mesh);
 
 } // namespace simpli::mli::adaptive

@@ -190,11 +190,19 @@ TEST(AdaptiveMesh, TransparentRegionsAreRemovedAndNoTriangleIsInvisible) {
     for (int x = 0; x < W; ++x)
       if (std::hypot(x - 40.3, y - 33.1) < 21.0)
         mli.layers[0].rgba[4 * (static_cast<std::size_t>(y) * W + x) + 3] = 0.8f;
-  const mli::AdaptiveLayerMesh m = mli::buildAdaptiveLayerMesh(mli, 0);
+  // Cut tightly (cells keep at most 16 transparent quads), and by default (at most 256: fewer
+  // triangles, more of the transparent border drawn).
+  mli::AdaptiveMeshOptions tight;
+  tight.maxTransparentQuads = 16;
+  const mli::AdaptiveLayerMesh m = mli::buildAdaptiveLayerMesh(mli, 0, tight);
+  const mli::AdaptiveLayerMesh loose = mli::buildAdaptiveLayerMesh(mli, 0);
   const double disc = 3.14159265358979 * 21.0 * 21.0;
   EXPECT_GT(totalArea(m), 0.9 * disc);
   EXPECT_LT(totalArea(m), 1.5 * disc) << "transparent regions were drawn";
+  EXPECT_LT(totalArea(loose), static_cast<double>(W - 1) * (H - 1) / 2);
+  EXPECT_LT(loose.numTriangles(), m.numTriangles());
   EXPECT_EQ(mli::measureAdaptiveMesh(mli, 0, m).uncoveredVisibleTexels, 0u);
+  EXPECT_EQ(mli::measureAdaptiveMesh(mli, 0, loose).uncoveredVisibleTexels, 0u);
   // No triangle lies over transparent quads only: sample each triangle's centroid's quad and
   // its neighbourhood (the triangle's own quads are within its bounding box).
   for (std::size_t t = 0; t < m.numTriangles(); ++t) {
@@ -390,7 +398,7 @@ TEST(AdaptiveMesh, BadOptionsAndLayerIndexAreNamedErrors) {
   expectError(with([](auto& o) { o.cameraOffset = -0.5; }), {"cameraOffset", "-0.5"});
   expectError(with([](auto& o) { o.discontinuityPixels = 0; }), {"discontinuityPixels", "0"});
   expectError(with([](auto& o) { o.alphaThreshold = 2; }), {"alphaThreshold", "2"});
-  expectError(with([](auto& o) { o.mixedCellSize = 0; }), {"mixedCellSize", "0"});
+  expectError(with([](auto& o) { o.maxTransparentQuads = -1; }), {"maxTransparentQuads", "-1"});
   expectError([&] { mli::buildAdaptiveLayerMesh(mli, 1); }, {"layer index 1", "[0, 1)"});
 }
 

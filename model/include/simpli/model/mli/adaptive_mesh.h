@@ -41,11 +41,12 @@
 // Construction (a quadtree over the grid's texel quads, top-down from the whole layer):
 //  - a cell whose quads are all transparent (no visible corner) is dropped: no triangle covers
 //    only texels below the alpha threshold;
-//  - a cell is split while its two triangles (corners only, diagonal top-left to bottom-right
-//    as in the per-texel mesh) miss a visible texel's 1/d by more than the tolerance or swim
-//    by more than it (bound above), while it
-//    contains a discontinuous texel edge, and while it is partly transparent and larger than
-//    mixedCellSize quads (so that transparent regions are cut away, not drawn at alpha 0);
+//  - a cell is split while its two triangles (corners only, on whichever diagonal fits) miss a
+//    visible texel's 1/d by more than the tolerance or swim by more than it (bound above),
+//    while it contains a discontinuous texel edge, and while more than maxTransparentQuads of
+//    its quads are transparent (transparent regions are cut away rather than drawn at alpha 0,
+//    as far as that pays: on llvmpipe a triangle costs about as much as 40 fragments, so
+//    splitting a speckled cell into more triangles costs more than the fragments it saves);
 //  - a texel edge is discontinuous when one end is visible and the offset camera would see its
 //    two ends more than discontinuityPixels apart beyond the reference spacing:
 //    B f_px |1/d_a - 1/d_b| > discontinuityPixels. A quad with such an edge becomes a cut quad:
@@ -54,7 +55,8 @@
 //    continuous edges share their vertices (no crack inside a side);
 //  - no cracks between cells of different sizes: every vertex of a cell that lies on a
 //    neighbour's edge is part of that neighbour's boundary polygon (a leaf with such vertices is
-//    triangulated as a fan from its centre), so neighbouring triangles share edges exactly (no
+//    triangulated as a fan: from a corner whose two edges have none, 2 + k triangles for k such
+//    vertices, else from its centre, 4 + k), so neighbouring triangles share edges exactly (no
 //    T-junctions); a fan that misses the tolerance is split and the leaves are checked again.
 // Constant-depth layers (MPI planes) collapse to two triangles per cell that is fully visible,
 // the whole layer when it is all visible; slanted planes are exact at any tolerance (their
@@ -80,8 +82,9 @@ struct AdaptiveMeshOptions {
   /// Texels with alpha below this are transparent (their depth is free, their quads dropped);
   /// in [0, 1], 0 keeps everything.
   float alphaThreshold = 1.0f / 255.0f;
-  /// Partly transparent cells are split down to this many quads per side (>= 1).
-  int mixedCellSize = 8;
+  /// Partly transparent cells are split while more than this many of their texel quads are
+  /// transparent (>= 0; 0 cuts transparent regions away down to single quads).
+  int maxTransparentQuads = 256;
 };
 
 struct AdaptiveLayerMesh {
