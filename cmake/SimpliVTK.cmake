@@ -20,7 +20,23 @@ if (SIMPLI_USE_PARAVIEW)
   # Only what a server-side plugin needs: with no COMPONENTS, ParaView's config makes every
   # external dependency it was built with (Qt5 dev, HDF5, GDAL, ...) REQUIRED.
   find_package(ParaView 5.11 REQUIRED COMPONENTS
-    RemotingCore RemotingServerManager RemotingClientServerStream)
+    RemotingCore RemotingServerManager RemotingClientServerStream
+    # The plugin's GUI part (plugin/gui: an MLI shown through its camera, the SIMPLI menu):
+    # ParaView's Qt client libraries and Qt5 dev (qtbase5-dev). Without them the plugin has
+    # only its server-side proxies.
+    OPTIONAL_COMPONENTS pqApplicationComponents)
+  if (PARAVIEW_USE_QT AND TARGET ParaView::pqApplicationComponents)
+    find_package(Qt5 QUIET COMPONENTS Widgets)
+    # pqApplicationComponents' link interface reaches VTK's imported third-party libraries,
+    # whose own interfaces name targets of their -dev packages (HDF5, libxml2, NetCDF, Boost)
+    # that the plugin never uses: the shared libraries carry their own dependencies. Empty
+    # stand-ins let CMake generate without installing those packages.
+    foreach (_simpli_dep IN ITEMS hdf5::hdf5 hdf5::hdf5_hl LibXml2::LibXml2 NetCDF::NetCDF Boost::boost)
+      if (NOT TARGET ${_simpli_dep})
+        add_library(${_simpli_dep} INTERFACE IMPORTED)
+      endif ()
+    endforeach ()
+  endif ()
   # ParaView bundles its own VTK (libvtk*-pv5.11). Take VTK from there only: mixing in
   # libvtk9's headers compiles silently (same class names) and crashes at run time.
   find_package(VTK REQUIRED

@@ -310,6 +310,8 @@ vtkSmartPointer<vtkPolyData> perTexelPolyData(const mli::MLI& mli, int k,
     const float* src = mesh.rgba.data() + 4 * p;
     for (int c = 0; c < 4; ++c)
       bytes[4 * p + c] = toByte(src[c]);
+    if (k == 0)
+      bytes[4 * p + 3] = 255; // the farthest layer is opaque on display (SIMPLIMLIToVTK.h)
     rgb[3 * p + 0] = src[0];
     rgb[3 * p + 1] = src[1];
     rgb[3 * p + 2] = src[2];
@@ -335,6 +337,7 @@ void addTextureFieldData(vtkFieldData* fd, const mli::MLI& mli, int k) {
   const int W = mli.width(), H = mli.height();
   const vtkIdType n = static_cast<vtkIdType>(mli.texels());
   const mli::MLILayer& layer = mli.layers[static_cast<std::size_t>(k)];
+  const bool opaque = k == 0;
   auto rgba = vtkSmartPointer<vtkUnsignedCharArray>::New();
   rgba->SetName(kTextureRGBAArray);
   rgba->SetNumberOfComponents(4);
@@ -357,6 +360,8 @@ void addTextureFieldData(vtkFieldData* fd, const mli::MLI& mli, int k) {
       const float* c = &layer.rgba[4 * src];
       for (int ch = 0; ch < 4; ++ch)
         rgba->SetValue(4 * dst + ch, toByte(c[ch]));
+      if (opaque)
+        rgba->SetValue(4 * dst + 3, 255); // the farthest layer, see SIMPLIMLIToVTK.h
       for (int ch = 0; ch < 3; ++ch)
         color->SetValue(3 * dst + ch, c[ch]);
       alpha->SetValue(dst, c[3]);

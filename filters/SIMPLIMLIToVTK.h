@@ -22,7 +22,11 @@
 // coordinates: mli/mesh.h), two triangles per texel quad (fewer when transparent triangles are
 // dropped; points never are). Point data:
 //   RGBA     vtkUnsignedCharArray, 4 components, the active scalars: round(255 c), straight
-//            (not premultiplied) colour and alpha, for display with MapScalars off
+//            (not premultiplied) colour and alpha, for display with MapScalars off. The
+//            farthest layer (index 0) has alpha 255: the rasterizer's rule that the farthest
+//            fragment of a pixel is opaque (spec §6.7), so that a viewer blending the layers
+//            over any background (ParaView's GUI) shows what `simpli render` shows. Alpha
+//            keeps the exact value.
 //   Color    vtkFloatArray, 3 components: straight RGB in [0, 1], the exact texel values
 //   Alpha    vtkFloatArray: opacity in [0, 1], exact
 //   Depth    vtkFloatArray: reference-camera z of the texel, exact
@@ -41,6 +45,7 @@
 // vtkImageData order (row 0 = the bottom image row, i.e. MLI row H - 1), ready to be the
 // scalars of the texture image (layerTexture):
 //   TextureRGBA   vtkUnsignedCharArray, 4 components: round(255 c), straight colour and alpha
+//                 (alpha 255 for layer 0, as RGBA above)
 //   TextureColor  vtkFloatArray, 3 components; TextureAlpha, TextureDepth  vtkFloatArray: the
 //                 exact texel values (so that collectionToMLI is exact for this form too)
 //   TextureSize   vtkIntArray, 2 components: W, H

@@ -10,6 +10,8 @@ packages=(
   # shared/reference/vtk_paraview_build.md), plus the -dev packages paraview-dev lacks
   paraview paraview-dev python3-paraview libopenmpi-dev libdouble-conversion-dev
   libglew-dev libx11-dev libgl-dev libpython3-dev
+  # the plugin's GUI part (plugin/gui: ParaView's Qt client headers need Qt5 dev)
+  qtbase5-dev
   # headless rendering for tests
   xvfb xauth
   # OpenCL (PoCL on the CPU), CLBlast and its tuners

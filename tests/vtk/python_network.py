@@ -53,9 +53,12 @@ for k, layer in enumerate(from_folder):
     assert pd.GetPointData().GetScalars().GetName() == "RGBA"
     assert layer["RGBA"].shape == (192 * 128, 4)
     assert np.all(np.isfinite(layer["Depth"])) and layer["Depth"].min() > 0
-    # RGBA is the 8-bit form of Color and Alpha (rounded half away from zero, in double).
+    # RGBA is the 8-bit form of Color and Alpha (rounded half away from zero, in double),
+    # the farthest layer opaque (the rasterizer's rule, filters/SIMPLIMLIToVTK.h).
     straight = np.concatenate([layer["Color"], layer["Alpha"][:, None]], axis=1)
     expected = np.floor(255.0 * straight.astype(np.float64) + 0.5)
+    if k == 0:
+        expected[:, 3] = 255.0
     assert np.array_equal(layer["RGBA"].astype(np.float64), expected), k
 fd = mli.GetFieldData()
 assert fd.GetArray("CameraIntrinsics").GetNumberOfComponents() == 4
