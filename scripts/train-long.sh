@@ -4,6 +4,8 @@
 # SIMPLI_VALIDATE=SCENE scores the network on that scene at checkpoints (RUN_DIR/out/val.csv,
 # validation/, progress.png; every SIMPLI_VALIDATE_EVERY steps, default 100);
 # SIMPLI_UPDATE_BINARY=1 replaces the run's copy of the binary with the tree's.
+# SIMPLI_TRAIN_ARGS="--size 128x96 ..." adds options to `simpli train`; they are kept in
+# RUN_DIR/bin/args on the first launch and reused when the run resumes.
 # If RUN_DIR holds a checkpoint the run resumes from it; otherwise it warm-starts from the
 # shipped weights (model/weights/default.safetensors) and says so in RUN_DIR/launch.log.
 # The binary is copied into RUN_DIR/bin first, so rebuilding the tree never changes the program
@@ -26,6 +28,10 @@ mkdir -p "$run/model/configs/training"
 cp -n "$root"/model/configs/*.json "$run/model/configs/" 2>/dev/null || true
 cp -n "$run/bin/config.json" "$run/model/configs/training/run.json"
 every=${SIMPLI_CHECKPOINT_EVERY:-20}
+if [[ ! -f "$run/bin/args" ]]; then
+  printf '%s\n' "${SIMPLI_TRAIN_ARGS:-}" > "$run/bin/args"
+fi
+read -r -a extra_args < "$run/bin/args" || true
 if [[ -n "$(ls -A "$run/out/checkpoints" 2>/dev/null)" ]]; then
   echo "$(date -Is) resuming $run/out" >> "$run/launch.log"
   args=(--out "$run/out" --resume --checkpoint-every "$every")
@@ -39,6 +45,7 @@ fi
 if [[ -n "${SIMPLI_VALIDATE:-}" ]]; then
   args+=(--validate "$SIMPLI_VALIDATE" --validate-every "${SIMPLI_VALIDATE_EVERY:-100}")
 fi
+args+=("${extra_args[@]}")
 cd "$run"
 nohup nice -n 15 "$run/bin/simpli" train synthetic:1 "${args[@]}" >> "$run/train.log" 2>&1 &
 echo "$!" > "$run/pid"
