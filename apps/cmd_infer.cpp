@@ -23,15 +23,18 @@
 #include "stop_signals.h"
 
 #include "simpli/error.h"
+#include "simpli/model/generator/layer_choice.h"
 #include "simpli/model/generator/mli_builder.h"
 #include "simpli/model/io/image.h"
 #include "simpli/model/io/staged_folder.h"
 #include "simpli/model/metrics/image_quality.h"
 #include "simpli/model/mli/files.h"
+#include "simpli/model/raster/render_mli.h"
 #include "simpli/model/scene/scene.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_elementwise.h"
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -63,8 +66,10 @@ void checkViewIndices(const std::vector<int>& indices, std::size_t count, const 
   }
 }
 
-/// MLIBuildOptions::dropEmptyBelow for --layers: "all" keeps every surface, "auto" drops those
-/// with nothing visible after 8-bit export, N checks that the network has N surfaces.
+/// MLIBuildOptions::dropEmptyBelow for --layers: "all" keeps every surface, "auto" first drops
+/// those with nothing visible after 8-bit export (then chooseLayers, in inferScene, keeps the
+/// fewest of the rest within 0.2 dB on the source views), N checks that the network has N
+/// surfaces.
 float layersThreshold(const std::string& layers, const network::NetworkConfig& config) {
   if (layers == "all")
     return 0.0f;
@@ -264,6 +269,28 @@ SceneInference inferScene(const InferOptions& o, const std::string& scenePath,
 
   // Everything goes into one staging folder that replaces the output at the end.
   t0 = Clock::now();
+  if (o.layers == "auto") {
+    // The smallest MLI within 0.2 dB PSNR of the full one on the source views
+    // (generator/layer_choice.h), said in the report.
+    const auto tc = Clock::now();
+    std::vector<scene::Camera> cameras;
+    std::vector<io::Image> images;
+    for (int v : views) {
+      cameras.push_back(scene.views[static_cast<std::size_t>(v)].camera);
+      images.push_back(scene.views[static_cast<std::size_t>(v)].image);
+    }
+    const int before = build.mli.numLayers();
+    generator::LayerChoice choice = generator::chooseLayers(build.mli, cameras, images);
+    std::string kept;
+    for (int k : choice.kept)
+      kept += (kept.empty() ? "" : ",") + std::to_string(k);
+    report(verbose,
+           "layers     auto: kept %zu of %d visible layers (%s; farthest = 0), source-view PSNR "
+           "%.2f dB against %.2f dB with all (within 0.2 dB); %d renders, %.1f ms\n",
+           choice.kept.size(), before, kept.c_str(), choice.chosenPsnr, choice.fullPsnr,
+           choice.renders, msSince(tc));
+    build.mli = std::move(choice.mli);
+  }
   const mli::MLI& mli = build.mli;
   const fs::path outDir(out);
   if (outDir.has_parent_path())
@@ -290,12 +317,16 @@ SceneInference inferScene(const InferOptions& o, const std::string& scenePath,
   for (int k : o.renderViews) {
     t0 = Clock::now();
     const scene::SceneView& view = scene.views[static_cast<std::size_t>(k)];
-    raster::RenderedLayers r;
+    io::Image image;
     {
       ocl::NoGradGuard noGrad;
-      r = generator::renderNovelView(output, input.reference, view.camera);
+      if (o.layers == "auto") { // what was written: the layers chosen
+        const raster::RenderedLayers r = raster::renderMLI(mli, view.camera);
+        image = toImage(ocl::addScalar(ocl::mulScalar(r.colour, 2.0), -1.0));
+      } else {
+        image = toImage(generator::renderNovelView(output, input.reference, view.camera).colour);
+      }
     }
-    const io::Image image = toImage(r.colour);
     char name[64];
     std::snprintf(name, sizeof name, "render_%03d.png", k);
     io::writeImagePng(image, (tmp / name).string());
@@ -344,8 +375,8 @@ void addInferCommand(CLI::App& app) {
                                        "Source views (scene indices, comma separated); default all")
                            ->delimiter(',');
   cmd->add_option("--layers", o->layers,
-                  "all (default), auto (drop layers with nothing visible) or N (check that the "
-                  "network has N layers)");
+                  "all (default), auto (the fewest layers within 0.2 dB PSNR of all of them on the "
+                  "source views; says which) or N (check that the network has N layers)");
   cmd->add_option("--corrections", o->corrections,
                   "MLI correction steps to run (default: all of the config's)");
   CLI::Option* renderViews =

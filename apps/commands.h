@@ -8,6 +8,8 @@ class App;
 namespace simpli::app {
 void addDevicesCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+/// `simpli bench trade` (cmd_bench_trade.cpp), registered on the `bench` subcommand.
+void addBenchTradeCommand(CLI::App& bench);
 void addInfoCommand(CLI::App& app);
 void addMakeSceneCommand(CLI::App& app);
 void addConvertCommand(CLI::App& app);

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   simpli::app::addDevicesCommand(app);
   simpli::app::addBenchCommand(app);
+  simpli::app::addBenchTradeCommand(*app.get_subcommand("bench"));
   simpli::app::addInfoCommand(app);
   simpli::app::addMakeSceneCommand(app);
   simpli::app::addConvertCommand(app);

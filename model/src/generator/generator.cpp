@@ -106,10 +106,11 @@ void checkInput(const network::SimpliNetwork& net, const GeneratorInput& input) 
   if (!finiteCamera(input.reference))
     fail("Generator: the reference camera has non-finite values or non-positive focal lengths");
   const bool customRange = input.minDepth > 0 || input.maxDepth > 0;
-  if (customRange &&
-      !(input.minDepth > 0 && input.maxDepth >= input.minDepth && std::isfinite(input.maxDepth)))
+  if (customRange && !(input.minDepth > 0 && std::isfinite(input.minDepth) &&
+                       input.maxDepth >= input.minDepth && !std::isnan(input.maxDepth)))
     fail("Generator: depth range minDepth = ", input.minDepth, ", maxDepth = ", input.maxDepth,
-         " must satisfy 0 < minDepth <= maxDepth (or both <= 0 for the config's)");
+         " must satisfy 0 < minDepth <= maxDepth, minDepth finite (or both <= 0 for the "
+         "config's)");
 }
 
 } // namespace
@@ -138,8 +139,23 @@ GeneratorOutput Generator::forward(const GeneratorInput& input,
     stages += network_.samliBlocks[static_cast<std::size_t>(k)].attention ? 5 : 4;
   StageClock clock(options.timeStages, &output.stageMs, &options.progress, stages);
   const double near = input.minDepth > 0 ? input.minDepth : cfg.minDepth;
-  const double far = input.maxDepth > 0 ? input.maxDepth : cfg.maxDepth;
-  Context ctx{network_, input, options, geometry::planeDepths(cfg.numPlanes, near, far)};
+  double far = input.maxDepth > 0 ? input.maxDepth : cfg.maxDepth;
+  // far = infinity (scenes with sky): the farthest plane would sit at disparity 0, i.e. at an
+  // infinite depth, and every depth, homography and MLI value derived from it would be
+  // non-finite. It goes to 1e6 x near instead, where a camera moved by up to
+  // `near` shifts it by at most f_px 1e-6 pixels: indistinguishable from infinity for images
+  // below 10^4 pixels, and finite in float32.
+  if (std::isinf(far))
+    far = near * 1e6;
+  // The corrections' source renders keep fragments inside the rasterizer's near / far cut
+  // (0.01 .. 120 by default: the config range 1 .. 100 with margins). A depth range outside it
+  // (1e3 .. 1e6, say) would cut every surface and feed the corrections empty renders, so the
+  // cut is widened by the same margins to cover the range (unchanged for the config's range).
+  GeneratorOptions adjusted = options;
+  adjusted.raster.nearZ = std::min(adjusted.raster.nearZ, 0.01 * near);
+  if (adjusted.raster.farZ > 0 && std::isfinite(adjusted.raster.farZ))
+    adjusted.raster.farZ = std::max(adjusted.raster.farZ, 1.2 * far);
+  Context ctx{network_, input, adjusted, geometry::planeDepths(cfg.numPlanes, near, far)};
   ctx.V = static_cast<int>(input.images.size(0));
   ctx.H = static_cast<int>(input.images.size(2));
   ctx.W = static_cast<int>(input.images.size(3));

@@ -30,20 +30,18 @@ int nearestSourceView(const std::vector<scene::Camera>& sources, const scene::Ca
   return best;
 }
 
-namespace {
-io::Image tensorToImage(const ocl::Tensor& t) {
+io::Image renderedImage(const ocl::Tensor& t, const char* what) {
   if (t.dim() != 3 || t.size(0) != 3)
-    fail("evaluate: rendered colour ", t.describe(), " is not [3, H, W]");
+    fail(what, ": rendered colour ", t.describe(), " is not [3, H, W]");
   io::Image im(int(t.size(2)), int(t.size(1)));
   const std::vector<float> v = t.toVectorF32();
   std::copy(v.begin(), v.end(), im.data.begin());
   return im;
 }
-} // namespace
 
-EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const EvalOptions& o,
-                    const std::function<void(int, int)>& progress,
-                    const std::function<void(const EvalViewImages&)>& onView) {
+void forEachEvalSample(
+    TrainingData& data, const EvalOptions& o,
+    const std::function<void(const TrainingSample&, uint64_t scene, int repeat)>& onSample) {
   if (o.repeats < 1)
     fail("evaluate: repeats ", o.repeats, " must be >= 1");
   if (o.views < 1 || o.novelViews < 1)
@@ -55,6 +53,20 @@ EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const E
   sc.mixupProbability = 0;
   Sampler sampler(sc, samplerSeed(o.seed));
   const uint64_t scenes = data.sceneCount() > 0 ? data.sceneCount() : uint64_t(o.scenes);
+  for (uint64_t si = 0; si < scenes; ++si) {
+    const scene::Scene& scene = data.scene(si);
+    if (int(scene.size()) < o.views + 1)
+      fail("evaluate: scene ", scene.root, " has ", scene.size(), " views; ", o.views,
+           " sources need at least ", o.views + 1);
+    for (int r = 0; r < o.repeats; ++r)
+      onSample(sampler.drawFromScene(scene, si), si, r);
+  }
+}
+
+EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const EvalOptions& o,
+                    const std::function<void(int, int)>& progress,
+                    const std::function<void(const EvalViewImages&)>& onView) {
+  const uint64_t scenes = data.sceneCount() > 0 ? data.sceneCount() : uint64_t(o.scenes);
   const int total = int(scenes) * o.repeats;
   ocl::NoGradGuard noGrad;
   generator::Generator generator(network);
@@ -63,47 +75,40 @@ EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const E
   go.raster = o.raster;
   EvalResult result;
   int done = 0;
-  for (uint64_t si = 0; si < scenes; ++si) {
-    const scene::Scene& scene = data.scene(si);
-    if (int(scene.size()) < o.views + 1)
-      fail("evaluate: scene ", scene.root, " has ", scene.size(), " views; ", o.views,
-           " sources need at least ", o.views + 1);
-    for (int r = 0; r < o.repeats; ++r) {
-      const TrainingSample s = sampler.drawFromScene(scene, si);
-      generator::GeneratorInput in;
-      in.images = imagesToTensor(s.sources, network.parameters().dtype());
-      in.sources = s.sourceCameras;
-      in.reference = s.reference;
-      if (done == 0 &&
-          o.warmUp) { // warm-up: PoCL compiles kernels on first use, which is not build time
-        generator.forward(in, go);
-        ocl::Device::current().finish();
-      }
-      const auto t0 = std::chrono::steady_clock::now();
-      const generator::GeneratorOutput out = generator.forward(in, go);
+  forEachEvalSample(data, o, [&](const TrainingSample& s, uint64_t si, int r) {
+    generator::GeneratorInput in;
+    in.images = imagesToTensor(s.sources, network.parameters().dtype());
+    in.sources = s.sourceCameras;
+    in.reference = s.reference;
+    if (done == 0 && o.warmUp) { // warm-up: PoCL compiles kernels on first use, which is not
+                                 // build time
+      generator.forward(in, go);
       ocl::Device::current().finish();
-      result.buildMs.push_back(
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-      for (size_t t = 0; t < s.targets.size(); ++t) {
-        const metrics::MetricImage truth = metrics::metricImageFromImage(s.targets[t]);
-        const raster::RenderedLayers rl =
-            generator::renderNovelView(out, s.reference, s.targetCameras[t], o.raster);
-        const io::Image render = tensorToImage(rl.colour);
-        result.model.push_back(metrics::evaluateImageQuality(metrics::metricImageFromImage(render),
-                                                             truth, o.keptArea));
-        const int nearest = nearestSourceView(s.sourceCameras, s.targetCameras[t]);
-        const io::Image& nearestImage = s.cleanSources[size_t(nearest)];
-        result.baseline.push_back(metrics::evaluateImageQuality(
-            metrics::metricImageFromImage(nearestImage), truth, o.keptArea));
-        result.views.push_back(
-            {si, r, s.sourceFrames, s.targetFrames[t], s.sourceFrames[size_t(nearest)]});
-        if (onView)
-          onView({result.views.back(), s.targets[t], render, nearestImage});
-      }
-      if (progress)
-        progress(++done, total);
     }
-  }
+    const auto t0 = std::chrono::steady_clock::now();
+    const generator::GeneratorOutput out = generator.forward(in, go);
+    ocl::Device::current().finish();
+    result.buildMs.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    for (size_t t = 0; t < s.targets.size(); ++t) {
+      const metrics::MetricImage truth = metrics::metricImageFromImage(s.targets[t]);
+      const raster::RenderedLayers rl =
+          generator::renderNovelView(out, s.reference, s.targetCameras[t], o.raster);
+      const io::Image render = renderedImage(rl.colour, "evaluate");
+      result.model.push_back(
+          metrics::evaluateImageQuality(metrics::metricImageFromImage(render), truth, o.keptArea));
+      const int nearest = nearestSourceView(s.sourceCameras, s.targetCameras[t]);
+      const io::Image& nearestImage = s.cleanSources[size_t(nearest)];
+      result.baseline.push_back(metrics::evaluateImageQuality(
+          metrics::metricImageFromImage(nearestImage), truth, o.keptArea));
+      result.views.push_back(
+          {si, r, s.sourceFrames, s.targetFrames[t], s.sourceFrames[size_t(nearest)]});
+      if (onView)
+        onView({result.views.back(), s.targets[t], render, nearestImage});
+    }
+    if (progress)
+      progress(++done, total);
+  });
   auto summary = [](const std::vector<metrics::ImageQuality>& q, metrics::MeanStd& p,
                     metrics::MeanStd& ss) {
     std::vector<double> a, b;

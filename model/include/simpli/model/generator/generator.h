@@ -26,7 +26,9 @@ struct GeneratorInput {
   ocl::Tensor images;                 ///< [V, 3, H, W] RGB in [-1, 1], V >= 1, the network's dtype
   std::vector<scene::Camera> sources; ///< V source cameras (relative intrinsics; size W x H)
   scene::Camera reference;            ///< the virtual reference camera (size W x H)
-  /// Plane depth range (scene units). <= 0 means the config's min_depth / max_depth.
+  /// Plane depth range (scene units). <= 0 means the config's min_depth / max_depth. maxDepth
+  /// may be +infinity: the farthest plane then goes to 1e6 x minDepth (docs/numerics.md). The
+  /// corrections' rasterizer cut (GeneratorOptions::raster) is widened to cover the range.
   double minDepth = 0, maxDepth = 0;
 };
 

@@ -11,6 +11,7 @@
 #include "simpli/model/network/network.h"
 #include "simpli/model/raster/rasterizer.h"
 #include "simpli/model/training/data.h"
+#include "simpli/model/training/sampler.h"
 
 #include <cstdint>
 #include <functional>
@@ -58,6 +59,17 @@ struct EvalResult {
 
 /// Index of the camera in `sources` whose centre is closest to `target`'s (first on ties).
 int nearestSourceView(const std::vector<scene::Camera>& sources, const scene::Camera& target);
+
+/// The samples evaluate() scores, in its order (scene by scene, `repeats` per scene): `onSample`
+/// gets each one with its scene index and repeat. The same options draw the same samples, so
+/// other measurements (`simpli bench trade`) are paired with evaluate()'s view by view. Throws
+/// simpli::Error for bad options or a scene with too few views.
+void forEachEvalSample(
+    TrainingData& data, const EvalOptions& options,
+    const std::function<void(const TrainingSample& sample, uint64_t scene, int repeat)>& onSample);
+
+/// A rendered colour [3, H, W] (RGB in [-1, 1]) as an image; `what` names the caller in errors.
+io::Image renderedImage(const ocl::Tensor& colour, const char* what);
 
 /// `onView`, when given, sees every scored view's pictures (to save comparison grids).
 EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const EvalOptions& options,
