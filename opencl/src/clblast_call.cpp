@@ -1,5 +1,6 @@
 #include "clblast_call.h"
 
+#include "gemm_host.h"
 #include "gemm_skinny.h"
 
 #include "simpli/error.h"
@@ -106,6 +107,8 @@ void gemm(const char* op, Dtype dtype, int64_t m, int64_t n, int64_t k, double a
   checkSizes(op, m, n, k);
   if (m == 0 || n == 0)
     return;
+  if (tryHostGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
+    return;
   if (trySkinnyGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
     return;
   if (dtype == Dtype::F64)
@@ -125,6 +128,9 @@ void gemmStridedBatched(const char* op, Dtype dtype, int64_t m, int64_t n, int64
     gemm(op, dtype, m, n, k, alpha, a, b, beta, c, cOffset, ldc);
     return;
   }
+  if (tryHostGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc, strideC,
+                  batch))
+    return;
   if (trySkinnyGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc, strideC,
                     batch))
     return;
