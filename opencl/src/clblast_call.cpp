@@ -10,6 +10,7 @@
 
 #include <clblast.h>
 
+#include <algorithm>
 #include <memory>
 
 namespace simpli::ocl::blas {
@@ -107,9 +108,12 @@ void gemm(const char* op, Dtype dtype, int64_t m, int64_t n, int64_t k, double a
   checkSizes(op, m, n, k);
   if (m == 0 || n == 0)
     return;
+  const bool skinnyFirst = std::min(m, n) <= kSkinnyBeforeHost || !hostGemmSelected();
+  if (skinnyFirst && trySkinnyGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
+    return;
   if (tryHostGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
     return;
-  if (trySkinnyGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
+  if (!skinnyFirst && trySkinnyGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
     return;
   if (dtype == Dtype::F64)
     gemmT<double>(op, m, n, k, alpha, a, b, beta, c, cOffset, ldc);
@@ -128,11 +132,15 @@ void gemmStridedBatched(const char* op, Dtype dtype, int64_t m, int64_t n, int64
     gemm(op, dtype, m, n, k, alpha, a, b, beta, c, cOffset, ldc);
     return;
   }
+  const bool skinnyFirst = std::min(m, n) <= kSkinnyBeforeHost || !hostGemmSelected();
+  if (skinnyFirst && trySkinnyGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset,
+                                   ldc, strideC, batch))
+    return;
   if (tryHostGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc, strideC,
                   batch))
     return;
-  if (trySkinnyGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc, strideC,
-                    batch))
+  if (!skinnyFirst && trySkinnyGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset,
+                                    ldc, strideC, batch))
     return;
   if (dtype == Dtype::F64)
     batchedT<double>(op, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc, strideC,

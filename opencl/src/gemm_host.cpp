@@ -238,12 +238,16 @@ void hostGemmT(int64_t m, int64_t n, int64_t k, double alpha, const Operand& a, 
 
 } // namespace
 
+bool hostGemmSelected() {
+  return resolvedFor(Device::current()) == GemmBackend::Host;
+}
+
 bool tryHostGemm(Dtype dtype, int64_t m, int64_t n, int64_t k, double alpha, const Operand& a,
                  std::size_t strideA, const Operand& b, std::size_t strideB, double beta, cl_mem c,
                  std::size_t cOffset, std::size_t ldc, std::size_t strideC, int64_t batch) {
   if (m <= 0 || n <= 0 || k < 0 || batch <= 0)
     return false;
-  if (resolvedFor(Device::current()) != GemmBackend::Host)
+  if (!hostGemmSelected())
     return false;
   if (batch > 1 && m * n * k < kMinBatchedWork)
     return false;
