@@ -269,6 +269,10 @@ void runOps(int repeat, bool quick, const std::string& selector) {
     printRow(benchGemm(2048, 4096, 32, warmup, repeat));
     printRow(benchConv({32, 1, 192, 256, 32, 3, false, false}, warmup, repeat, threads));
     printRow(benchConv({36, 41, 96, 128, 32, 3, true, true}, warmup, repeat, threads));
+    // The feature extractor at 512x384 (reference section 4.2): conv1b 64->64 at full size and
+    // convDa 384->256 at half size (three quarters of its work).
+    printRow(benchConv({64, 1, 384, 512, 64, 3, false, false}, warmup, repeat, threads));
+    printRow(benchConv({384, 1, 192, 256, 256, 3, false, false}, warmup, repeat, threads));
     // Skinny shapes of the small configs (one dimension <= 32: the engine's own GEMM kernels
     // unless SIMPLI_GEMM_SKINNY=0): a 16-channel 3x3 conv at 128x192 and a per-pixel linear
     // layer 7 -> 16 over 4 layers of 128x192.
