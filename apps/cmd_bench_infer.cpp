@@ -4,15 +4,23 @@
 // the pass; buffers parked in the pool for reuse are reported separately and released after
 // every view count). One untimed warm-up pass per view count compiles the kernels and fills the
 // buffer pool; the reported times are medians over --repeat passes. Measures, never asserts.
+// Beside its own time it prints the ratio to the reference implementation (PyTorch on the CPU)
+// when a reference time for the same size and view count is given (--reference-ms, measured
+// with the reference's sources on this machine); without one it says it has none. The GEMM
+// backend and the OpenBLAS kernel are printed too (`bench infer` re-executes itself without
+// OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE like `bench ops`, see cmd_bench.cpp).
 #include "simpli/model/network/loader.h"
 
-#include <CLI/CLI.hpp>
 #include "simpli/error.h"
 #include "simpli/model/generator/generator.h"
 #include "simpli/model/scene/reference_camera.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
+#include "simpli/ocl/gemm_backend.h"
+#include <CLI/CLI.hpp>
+
+#include <sys/resource.h>
 
 #include <Eigen/Geometry>
 
@@ -36,6 +44,7 @@ struct BenchInferOptions {
   int repeat = 1;
   int corrections = -1;
   std::string device;
+  std::vector<double> referenceMs; // one per view count, or empty
 };
 
 double median(std::vector<double> v) {
@@ -83,6 +92,9 @@ void runBenchInfer(const BenchInferOptions& o) {
   for (int v : o.views)
     if (v < 1 || v > 64)
       fail("--views ", v, ": view counts must be in 1..64");
+  if (!o.referenceMs.empty() && o.referenceMs.size() != o.views.size())
+    fail("--reference-ms: ", o.referenceMs.size(), " time(s) for ", o.views.size(),
+         " view count(s); give one per view count");
 
   network::SimpliNetwork network(network::resolveNetworkConfig(o.config), ocl::Dtype::F32, 0);
   const generator::Generator generator(network);
@@ -91,8 +103,10 @@ void runBenchInfer(const BenchInferOptions& o) {
               "device %s, median of %d\n",
               network.config().name.c_str(), static_cast<long long>(network.parameters().count()),
               H, W, ocl::Device::current().info().deviceName.c_str(), o.repeat);
+  std::printf("gemm backend: %s\n", ocl::gemmBackendSummary().c_str());
   ocl::NoGradGuard noGrad;
-  for (int V : o.views) {
+  for (std::size_t vi = 0; vi < o.views.size(); ++vi) {
+    const int V = o.views[vi];
     const generator::GeneratorInput input = rigInput(V, H, W, 1234 + V);
     generator::GeneratorOptions options;
     options.corrections = o.corrections;
@@ -119,6 +133,16 @@ void runBenchInfer(const BenchInferOptions& o) {
     std::printf("V = %d: forward %.1f ms, peak device memory %.1f MiB (buffer pool: %.1f MiB "
                 "parked for reuse)\n",
                 V, median(totals), peak / 1048576.0, pool.stats().cachedBytes / 1048576.0);
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    std::printf("  peak process memory (max RSS so far) %.1f MiB\n", usage.ru_maxrss / 1024.0);
+    if (o.referenceMs.empty())
+      std::printf("  reference (PyTorch CPU): not measured here (no reference time: pass "
+                  "--reference-ms, timed with the reference's sources at %dx%d, V = %d)\n",
+                  W, H, V);
+    else
+      std::printf("  reference (PyTorch CPU) %.1f ms: simpli / reference = %.2f\n",
+                  o.referenceMs[vi], median(totals) / o.referenceMs[vi]);
     for (const std::string& name : names)
       std::printf("  %-18s %10.1f ms\n", name.c_str(), median(times[name]));
     pool.trim(); // hand the parked buffers back before the next (larger) view count
@@ -140,6 +164,10 @@ void addBenchInferCommand(CLI::App& bench) {
   cmd->add_option("--repeat", o->repeat, "Timed passes per view count (median reported)");
   cmd->add_option("--corrections", o->corrections, "MLI corrections to run (default all)");
   cmd->add_option("--device", o->device, "OpenCL device as platform:device (see simpli devices)");
+  cmd->add_option("--reference-ms", o->referenceMs,
+                  "The reference's forward time per view count (ms, comma separated), for the "
+                  "ratio")
+      ->delimiter(',');
   cmd->callback([o] { runBenchInfer(*o); });
 }
 

@@ -59,11 +59,14 @@ private:
   std::filesystem::path path_;
 };
 
-// "attention.attention_backward_key" -> "attention"; "clblast.Gemm NT ..." -> "gemm (CLBlast)".
+// "attention.attention_backward_key" -> "attention"; "clblast.Gemm NT ..." -> "gemm (CLBlast)",
+// "host.Gemm NT ..." -> "gemm (host BLAS)".
 std::string area(const std::string& kernel) {
   const std::string program = kernel.substr(0, kernel.find('.'));
   if (program == "clblast")
     return "gemm (CLBlast)";
+  if (program == "host")
+    return "gemm (host BLAS)";
   if (program.rfind("gemm", 0) == 0)
     return "gemm (own kernels)";
   return program;

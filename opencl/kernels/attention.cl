@@ -7,6 +7,7 @@
 // ATT_TILE, so any d and dv work; scores are recomputed where needed (d is small here).
 
 #define ATT_TILE 16
+#define ATT_MAXK 32 // keys whose weights the forward pass keeps in registers (more: recomputed)
 
 inline REAL att_score(__global const REAL* q, __global const REAL* k, const int d,
                       const REAL scale) {
@@ -29,7 +30,40 @@ __kernel void attention_forward(const int N, const int nq, const int nk, const i
   __global const REAL* qi = q + (shared_q ? i : row) * d;
   __global const REAL* kn = k + n * nk * d;
   __global const REAL* vn = v + n * nk * dv;
-  // Online maximum and normaliser in one pass over the keys.
+  __global REAL* o = out + row * dv;
+  if (nk <= ATT_MAXK) {
+    // Few keys (the view attention: one per source view): every score and weight computed
+    // once and kept in registers.
+    REAL p[ATT_MAXK];
+    REAL m = -INFINITY;
+    for (int j = 0; j < nk; ++j) {
+      p[j] = att_score(qi, kn + j * d, d, scale);
+      m = fmax(m, p[j]);
+    }
+    REAL l = 0;
+    for (int j = 0; j < nk; ++j) {
+      p[j] = exp(p[j] - m);
+      l += p[j];
+    }
+    stats[2 * row] = m;
+    stats[2 * row + 1] = l;
+    const REAL inv_l = 1 / l;
+    for (int c0 = 0; c0 < dv; c0 += ATT_TILE) {
+      const int nc = min(ATT_TILE, dv - c0);
+      REAL acc[ATT_TILE];
+      for (int c = 0; c < ATT_TILE; ++c)
+        acc[c] = 0;
+      for (int j = 0; j < nk; ++j) {
+        __global const REAL* vj = vn + j * dv + c0;
+        for (int c = 0; c < nc; ++c)
+          acc[c] += p[j] * vj[c];
+      }
+      for (int c = 0; c < nc; ++c)
+        o[c0 + c] = acc[c] * inv_l;
+    }
+    return;
+  }
+  // Online maximum and normaliser in one pass over the keys; the weights are recomputed below.
   REAL m = -INFINITY, l = 0;
   for (int j = 0; j < nk; ++j) {
     const REAL s = att_score(qi, kn + j * d, d, scale);
@@ -43,7 +77,6 @@ __kernel void attention_forward(const int N, const int nq, const int nk, const i
   stats[2 * row] = m;
   stats[2 * row + 1] = l;
   const REAL inv_l = 1 / l;
-  __global REAL* o = out + row * dv;
   for (int c0 = 0; c0 < dv; c0 += ATT_TILE) {
     const int nc = min(ATT_TILE, dv - c0);
     REAL acc[ATT_TILE];

@@ -51,6 +51,18 @@ __kernel void binary_broadcast3(const int n, const int op, const int n1, const i
   out[i] = binary_apply(BOP, a[i0 * sa0 + i1 * sa1 + i2 * sa2], b[i0 * sb0 + i1 * sb1 + i2 * sb2]);
 }
 
+// The same over a 3-D range (i2, i1, i0) = global ids (0, 1, 2), for inner runs n2 long enough
+// to fill the work-group's first dimension: no integer divisions (PoCL cannot vectorise them).
+__kernel void binary_broadcast3_grid(const int op, const int n1, const int n2,
+                                     __global const REAL* a, const int sa0, const int sa1,
+                                     const int sa2, __global const REAL* b, const int sb0,
+                                     const int sb1, const int sb2, __global REAL* out) {
+  const int i2 = get_global_id(0), i1 = get_global_id(1), i0 = get_global_id(2);
+  if (i2 >= n2) return; // only the first dimension is rounded up to the work-group size
+  out[(i0 * n1 + i1) * n2 + i2] =
+      binary_apply(BOP, a[i0 * sa0 + i1 * sa1 + i2 * sa2], b[i0 * sb0 + i1 * sb1 + i2 * sb2]);
+}
+
 // General broadcast: a and b are addressed through strides (0 on broadcast dimensions).
 __kernel void binary_broadcast(const int n, const int op, const int ndim, const int8 shape,
                                __global const REAL* a, const int8 stride_a,

@@ -1,5 +1,6 @@
 #include "clblast_call.h"
 
+#include "gemm_host.h"
 #include "gemm_skinny.h"
 
 #include "simpli/error.h"
@@ -9,6 +10,7 @@
 
 #include <clblast.h>
 
+#include <algorithm>
 #include <memory>
 
 namespace simpli::ocl::blas {
@@ -106,7 +108,12 @@ void gemm(const char* op, Dtype dtype, int64_t m, int64_t n, int64_t k, double a
   checkSizes(op, m, n, k);
   if (m == 0 || n == 0)
     return;
-  if (trySkinnyGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
+  const bool skinnyFirst = std::min(m, n) <= kSkinnyBeforeHost || !hostGemmSelected();
+  if (skinnyFirst && trySkinnyGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
+    return;
+  if (tryHostGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
+    return;
+  if (!skinnyFirst && trySkinnyGemm(dtype, m, n, k, alpha, a, 0, b, 0, beta, c, cOffset, ldc, 0, 1))
     return;
   if (dtype == Dtype::F64)
     gemmT<double>(op, m, n, k, alpha, a, b, beta, c, cOffset, ldc);
@@ -125,8 +132,15 @@ void gemmStridedBatched(const char* op, Dtype dtype, int64_t m, int64_t n, int64
     gemm(op, dtype, m, n, k, alpha, a, b, beta, c, cOffset, ldc);
     return;
   }
-  if (trySkinnyGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc, strideC,
-                    batch))
+  const bool skinnyFirst = std::min(m, n) <= kSkinnyBeforeHost || !hostGemmSelected();
+  if (skinnyFirst && trySkinnyGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset,
+                                   ldc, strideC, batch))
+    return;
+  if (tryHostGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc, strideC,
+                  batch))
+    return;
+  if (!skinnyFirst && trySkinnyGemm(dtype, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset,
+                                    ldc, strideC, batch))
     return;
   if (dtype == Dtype::F64)
     batchedT<double>(op, m, n, k, alpha, a, strideA, b, strideB, beta, c, cOffset, ldc, strideC,

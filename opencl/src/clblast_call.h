@@ -1,6 +1,7 @@
 #pragma once
-// Internal: row-major GEMMs on device buffers through CLBlast, in the tensor's precision, on the
-// current device's queue. Offsets and leading dimensions are in elements. Failures throw
+// Internal: row-major GEMMs on device buffers, in the tensor's precision, on the current device's
+// queue: the host BLAS where that backend is selected (gemm_host.h, simpli/ocl/gemm_backend.h),
+// else the engine's skinny kernels (gemm_skinny.h) or CLBlast. Offsets and leading dimensions are in elements. Failures throw
 // simpli::Error naming the calling op, the CLBlast routine, its status and the sizes.
 #include "simpli/ocl/dtype.h"
 

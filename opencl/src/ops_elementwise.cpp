@@ -120,6 +120,19 @@ Tensor binaryRaw(int op, const Tensor& a, const Tensor& b) {
       c.sa.insert(c.sa.begin(), 0);
       c.sb.insert(c.sb.begin(), 0);
     }
+    // Inner runs of >= 16: a 3-D range without index divisions (measured on PoCL: see
+    // docs/benchmarks.md, issue 13), work groups of 64 or 16 along the run.
+    if (c.size[2] >= 16) {
+      Launch grid("elementwise", "binary_broadcast3_grid", a.dtype(), binaryOptions(op));
+      grid.arg(op).arg(static_cast<int>(c.size[1])).arg(static_cast<int>(c.size[2])).arg(a);
+      for (int64_t v : c.sa)
+        grid.arg(static_cast<int>(v));
+      grid.arg(b);
+      for (int64_t v : c.sb)
+        grid.arg(static_cast<int>(v));
+      grid.arg(out).run3(c.size[2], c.size[1], c.size[0], c.size[2] >= 64 ? 64 : 16, 1, 1);
+      return out;
+    }
     Launch launch("elementwise", "binary_broadcast3", a.dtype(), binaryOptions(op));
     launch.arg(n).arg(op).arg(static_cast<int>(c.size[1])).arg(static_cast<int>(c.size[2]));
     launch.arg(a);

@@ -70,7 +70,9 @@ TEST(Attention, AgainstReferenceAndFiniteDifferences) {
       {7, 4, 41, 10, 10, true}, // anchored ray attention: shared anchors pool 41 planes
       {3, 3, 5, 33, 17, false}, // channels across two and a half 16-channel tiles
       {2, 1, 1, 1, 1, false},   // one key: the output is that key's value
-      {1, 2, 3, 4, 19, true}};
+      {1, 2, 3, 4, 19, true},
+      {2, 3, 32, 4, 5, false},  // the most keys whose weights stay in registers (ATT_MAXK)
+      {2, 3, 33, 4, 5, false}}; // one more: the recomputing path
   for (const auto& s : cases)
     worst.add(checkOp(attentionCase(s, 1.0 / std::sqrt(double(s.d)))));
 }

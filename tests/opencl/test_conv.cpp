@@ -111,9 +111,13 @@ void checkConv(const ConvSpec& s, int probes = 16) {
 
 const PaddingMode kModes[] = {PaddingMode::Zeros, PaddingMode::Replicate};
 
+// The convolutions' GEMMs run on both backends: the host BLAS and CLBlast with the skinny kernels.
+class ConvGemm : public GemmBackendTest {};
+SIMPLI_GEMM_BACKENDS(ConvGemm);
+
 } // namespace
 
-TEST(Conv, Conv2dAgainstReference) {
+TEST_P(ConvGemm, Conv2dAgainstReference) {
   for (PaddingMode mode : kModes) {
     const ConvSpec cases[] = {
         {{1, 1, 1, 1}, {1, 1, 1, 1}, {1, 1, 1}, {0, 0, 0}, mode, true},  // all size 1
@@ -133,7 +137,7 @@ TEST(Conv, Conv2dAgainstReference) {
   }
 }
 
-TEST(Conv, Conv3dAgainstReference) {
+TEST_P(ConvGemm, Conv3dAgainstReference) {
   for (PaddingMode mode : kModes) {
     const ConvSpec cases[] = {
         {{1, 2, 3, 4, 5}, {3, 2, 3, 3, 3}, {1, 1, 1}, {1, 1, 1}, mode, true},
@@ -148,7 +152,7 @@ TEST(Conv, Conv3dAgainstReference) {
   }
 }
 
-TEST(Conv, SmallColumnBlocksGiveTheSameResult) {
+TEST_P(ConvGemm, SmallColumnBlocksGiveTheSameResult) {
   // One output row per block, then blocks that span depth-slice boundaries (5 rows of a
   // 4-row slice), in both directions of the GEMM and through col2im.
   const ConvSpec specs[] = {
@@ -237,7 +241,7 @@ TEST(Conv, EmptyBatchGivesEmptyOutput) {
   EXPECT_EQ(y.shape(), (Shape{0, 2, 5, 5}));
 }
 
-TEST(Conv, ReplicatePaddingOfAConstantImageIsExact) {
+TEST_P(ConvGemm, ReplicatePaddingOfAConstantImageIsExact) {
   // With replicate padding a constant input sees the constant at every tap: each output is
   // value * sum(weights) + bias, including at the borders (zero padding would not be).
   auto x = ocl::Tensor::full({1, 2, 4, 5, 6}, 1.5, Dtype::F64);

@@ -67,6 +67,11 @@ const std::pair<Shape, Shape> kBroadcastShapes[] = {
     {{1}, {4, 1, 3}},
     {{2, 3, 1, 1, 5}, {3, 4, 1, 5}},
     {{1, 1, 2, 1, 3, 2}, {2, 1, 4, 1, 1}},
+    // Inner runs of >= 16 (binary_broadcast3_grid): a partial work group of 16, groups of 64
+    // with a tail, a broadcast inner dimension.
+    {{3, 17}, {17}},
+    {{2, 1, 70}, {1, 3, 70}},
+    {{5, 40}, {5, 1}},
 };
 
 } // namespace

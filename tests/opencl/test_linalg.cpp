@@ -8,8 +8,10 @@
 #include "simpli/error.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/device.h"
+#include "simpli/ocl/gemm_backend.h"
 #include "simpli/ocl/ops_linalg.h"
 #include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/profiler.h"
 
 #include <gtest/gtest.h>
 
@@ -61,9 +63,13 @@ void checkMatmul(const MatmulShape& s, int probes = 24) {
   checkOp(c);
 }
 
+// Every GEMM test runs on both backends: the host BLAS and CLBlast with the skinny kernels.
+class LinalgGemm : public GemmBackendTest {};
+SIMPLI_GEMM_BACKENDS(LinalgGemm);
+
 } // namespace
 
-TEST(Linalg, MatmulAgainstReference) {
+TEST_P(LinalgGemm, MatmulAgainstReference) {
   const MatmulShape cases[] = {
       {{1, 1}, {1, 1}, false, false},   {{3, 5}, {5, 4}, false, false},
       {{7, 13}, {13, 1}, false, false}, {{1, 9}, {9, 11}, false, false},
@@ -74,7 +80,7 @@ TEST(Linalg, MatmulAgainstReference) {
     checkMatmul(s);
 }
 
-TEST(Linalg, MatmulLargeEnoughForTheIndirectKernel) {
+TEST_P(LinalgGemm, MatmulLargeEnoughForTheIndirectKernel) {
   // Sizes past CLBlast's direct/indirect switch and not multiples of any work-group tile, so
   // the padding and transposition helper kernels run too.
   checkMatmul({{130, 301}, {301, 257}, false, false}, 8);
@@ -87,7 +93,7 @@ TEST(Linalg, MatmulLargeEnoughForTheIndirectKernel) {
   checkMatmul({{260, 257}, {2, 258, 257}, false, true}, 6);
 }
 
-TEST(Linalg, SkinnyGemmsAgainstReference) {
+TEST_P(LinalgGemm, SkinnyGemmsAgainstReference) {
   // One dimension <= 32: the engine's register-blocked kernels (gemm_skinny.cl) instead of
   // CLBlast, for every register block (4, 8, 16, 32), both kernels (few rows / few columns),
   // transposes, batches and a shared operand.
@@ -104,7 +110,7 @@ TEST(Linalg, SkinnyGemmsAgainstReference) {
   checkMatmul({{300, 21}, {5, 21}, false, true}, 6);        // ... with a tail
 }
 
-TEST(Linalg, SplitKGemmsAgainstReference) {
+TEST_P(LinalgGemm, SplitKGemmsAgainstReference) {
   // Small outputs with a long inner dimension (weight gradients): k split into chunks reduced
   // in parallel (gemm_splitk.cl), as dot products (A, B^T) or outer products (any layout).
   checkMatmul({{16, 3000}, {144, 3000}, false, true}, 6);     // dot, 6 chunks
@@ -114,7 +120,7 @@ TEST(Linalg, SplitKGemmsAgainstReference) {
   checkMatmul({{2, 4, 2500}, {2, 2500, 3}, false, false}, 6); // outer, batched
 }
 
-TEST(Linalg, BatchedAndBroadcastMatmul) {
+TEST_P(LinalgGemm, BatchedAndBroadcastMatmul) {
   const MatmulShape cases[] = {
       {{2, 3, 5}, {2, 5, 4}, false, false}, // plain batch
       {{1, 3, 5}, {4, 5, 2}, false, false}, // a shared (batch 1)
@@ -130,7 +136,7 @@ TEST(Linalg, BatchedAndBroadcastMatmul) {
     checkMatmul(s);
 }
 
-TEST(Linalg, LinearAgainstReference) {
+TEST_P(LinalgGemm, LinearAgainstReference) {
   struct L {
     Shape x;
     int64_t out;
@@ -171,7 +177,7 @@ TEST(Linalg, LinearAgainstReference) {
   EXPECT_EQ(y.shape(), (Shape{2, 3, 4}));
 }
 
-TEST(Linalg, EmptyInnerDimensionGivesZeros) {
+TEST_P(LinalgGemm, EmptyInnerDimensionGivesZeros) {
   auto y = ocl::matmul(ocl::Tensor::zeros({3, 0}), ocl::Tensor::zeros({0, 2}));
   EXPECT_EQ(y.shape(), (Shape{3, 2}));
   for (double v : y.toVector())
@@ -225,7 +231,7 @@ TEST(Linalg, BadUseNamesOpAndShapes) {
       {"linear", "weight", "[5]"});
 }
 
-TEST(Linalg, GradientFlowsOnlyWhereRequired) {
+TEST_P(LinalgGemm, GradientFlowsOnlyWhereRequired) {
   auto a = ocl::Tensor::uniform({3, 4}, -1, 1, 1, Dtype::F64);
   auto b = ocl::Tensor::uniform({4, 2}, -1, 1, 2, Dtype::F64);
   b.setRequiresGrad(true);
@@ -237,6 +243,49 @@ TEST(Linalg, GradientFlowsOnlyWhereRequired) {
   for (int k = 0; k < 4; ++k)
     for (int n = 0; n < 2; ++n)
       EXPECT_NEAR(gb[k * 2 + n], av[k] + av[4 + k] + av[8 + k], 1e-12);
+}
+
+// ---- the GEMM backend switch --------------------------------------------------------------
+
+TEST(GemmBackend, ParsesNamesAndRejectsOthers) {
+  for (auto b : {ocl::GemmBackend::Auto, ocl::GemmBackend::Host, ocl::GemmBackend::Clblast})
+    EXPECT_EQ(ocl::parseGemmBackend(ocl::toString(b), "test"), b);
+  expectError([] { ocl::parseGemmBackend("blas", "SIMPLI_GEMM"); },
+              {"SIMPLI_GEMM", "'blas'", "auto, host or clblast"});
+}
+
+TEST(GemmBackend, AutoIsHostExactlyOnCpuDevices) {
+  const auto previous = ocl::setGemmBackend(ocl::GemmBackend::Auto);
+  cl_device_type type = 0;
+  clGetDeviceInfo(ocl::Device::current().id(), CL_DEVICE_TYPE, sizeof(type), &type, nullptr);
+  const bool cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+  EXPECT_EQ(ocl::gemmBackend(), cpu ? ocl::GemmBackend::Host : ocl::GemmBackend::Clblast);
+  const std::string summary = ocl::gemmBackendSummary();
+  EXPECT_NE(summary.find("SIMPLI_GEMM=auto"), std::string::npos) << summary;
+  EXPECT_NE(summary.find(cpu ? "host (" : "clblast ("), std::string::npos) << summary;
+  ocl::setGemmBackend(previous);
+}
+
+TEST(GemmBackend, TheSelectedBackendRunsTheGemm) {
+  // The profile names the routine that ran: host.Gemm or clblast.Gemm (or a skinny kernel).
+  const bool wasProfiling = ocl::Profiler::enabled();
+  ocl::Profiler::setEnabled(true);
+  auto a = ocl::Tensor::uniform({64, 80}, -1, 1, 5), b = ocl::Tensor::uniform({80, 72}, -1, 1, 6);
+  for (auto backend : {ocl::GemmBackend::Host, ocl::GemmBackend::Clblast}) {
+    const auto previous = ocl::setGemmBackend(backend);
+    ocl::Profiler::reset();
+    ocl::matmul(a, b);
+    ocl::Device::current().finish();
+    const char* want =
+        backend == ocl::GemmBackend::Host ? "host.Gemm NN 64x72x80" : "clblast.Gemm NN 64x72x80";
+    const auto entries = ocl::Profiler::entries();
+    EXPECT_TRUE(std::any_of(entries.begin(), entries.end(),
+                            [&](const ocl::ProfileEntry& e) { return e.name == want; }))
+        << "no profile entry " << want;
+    ocl::setGemmBackend(previous);
+  }
+  ocl::Profiler::reset();
+  ocl::Profiler::setEnabled(wasProfiling);
 }
 
 // ---- CLBlast tuning table -------------------------------------------------------------------

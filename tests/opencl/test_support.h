@@ -3,6 +3,7 @@
 #include "op_harness.h"
 
 #include "simpli/error.h"
+#include "simpli/ocl/gemm_backend.h"
 
 #include <gtest/gtest.h>
 
@@ -39,5 +40,27 @@ struct WorstErrors {
                 gradient);
   }
 };
+
+/// A test run once per GEMM backend (simpli/ocl/gemm_backend.h): derive a fixture, write
+/// TEST_P(Fixture, Name) and instantiate it with SIMPLI_GEMM_BACKENDS(Fixture). The case names
+/// end in /host or /clblast.
+class GemmBackendTest : public ::testing::TestWithParam<ocl::GemmBackend> {
+protected:
+  void SetUp() override { previous_ = ocl::setGemmBackend(GetParam()); }
+  void TearDown() override { ocl::setGemmBackend(previous_); }
+
+private:
+  ocl::GemmBackend previous_ = ocl::GemmBackend::Auto;
+};
+
+inline std::string gemmBackendName(const ::testing::TestParamInfo<ocl::GemmBackend>& info) {
+  return ocl::toString(info.param);
+}
+
+#define SIMPLI_GEMM_BACKENDS(Fixture)                                                              \
+  INSTANTIATE_TEST_SUITE_P(                                                                        \
+      Backends, Fixture,                                                                           \
+      ::testing::Values(::simpli::ocl::GemmBackend::Host, ::simpli::ocl::GemmBackend::Clblast),    \
+      ::simpli::test::gemmBackendName)
 
 } // namespace simpli::test
