@@ -310,7 +310,7 @@ vtkSmartPointer<vtkPolyData> perTexelPolyData(const mli::MLI& mli, int k,
     const float* src = mesh.rgba.data() + 4 * p;
     for (int c = 0; c < 4; ++c)
       bytes[4 * p + c] = toByte(src[c]);
-    if (k == 0)
+    if (k == 0 && options.opaqueFarthestLayer)
       bytes[4 * p + 3] = 255; // the farthest layer is opaque on display (SIMPLIMLIToVTK.h)
     rgb[3 * p + 0] = src[0];
     rgb[3 * p + 1] = src[1];
@@ -333,11 +333,10 @@ vtkSmartPointer<vtkPolyData> perTexelPolyData(const mli::MLI& mli, int k,
 }
 
 // The layer's texels in vtkImageData order (row 0 = MLI row H - 1) as field data arrays.
-void addTextureFieldData(vtkFieldData* fd, const mli::MLI& mli, int k) {
+void addTextureFieldData(vtkFieldData* fd, const mli::MLI& mli, int k, bool opaque) {
   const int W = mli.width(), H = mli.height();
   const vtkIdType n = static_cast<vtkIdType>(mli.texels());
   const mli::MLILayer& layer = mli.layers[static_cast<std::size_t>(k)];
-  const bool opaque = k == 0;
   auto rgba = vtkSmartPointer<vtkUnsignedCharArray>::New();
   rgba->SetName(kTextureRGBAArray);
   rgba->SetNumberOfComponents(4);
@@ -405,7 +404,7 @@ vtkSmartPointer<vtkPolyData> adaptivePolyData(const mli::MLI& mli, int k,
   pd->SetPolys(triangleCells(mesh.triangles));
   pd->GetPointData()->SetTCoords(tcoords);
   pd->GetPointData()->AddArray(floatArray(kDepthArray, 1, n, mesh.depth.data()));
-  addTextureFieldData(pd->GetFieldData(), mli, k);
+  addTextureFieldData(pd->GetFieldData(), mli, k, k == 0 && options.opaqueFarthestLayer);
   auto tolerance = vtkSmartPointer<vtkDoubleArray>::New();
   tolerance->SetName(kMeshToleranceArray);
   tolerance->InsertNextValue(options.meshTolerance);

@@ -23,7 +23,8 @@
 // dropped; points never are). Point data:
 //   RGBA     vtkUnsignedCharArray, 4 components, the active scalars: round(255 c), straight
 //            (not premultiplied) colour and alpha, for display with MapScalars off. The
-//            farthest layer (index 0) has alpha 255: the rasterizer's rule that the farthest
+//            farthest layer (index 0) has alpha 255 (LayerOptions::opaqueFarthestLayer): the
+//            rasterizer's rule that the farthest
 //            fragment of a pixel is opaque (spec §6.7), so that a viewer blending the layers
 //            over any background (ParaView's GUI) shows what `simpli render` shows. Alpha
 //            keeps the exact value.
@@ -109,6 +110,10 @@ struct LayerOptions {
   /// Point coordinates as vtkDoubleArray, back-projected in double precision from the stored
   /// (float) depths; float otherwise, as the model's mesh holds them.
   bool doublePrecisionPoints = false;
+  /// Display RGBA (and TextureRGBA) of layer 0 with alpha 255: the rasterizer's rule that the
+  /// farthest layer is opaque (see RGBA above). Off for a layer shown on its own
+  /// (vtkSIMPLILayerGridSource), whose alpha is the user's.
+  bool opaqueFarthestLayer = true;
 };
 
 /// "Layer07" for k = 7 (at least two digits, like the file names).

@@ -106,6 +106,7 @@ int vtkSIMPLILayerGridSource::RequestData(vtkInformation* vtkNotUsed(request),
           }
         }
         simpli::vtkmli::LayerOptions options;
+        options.opaqueFarthestLayer = false; // one layer on its own: its alpha is the user's
         options.doublePrecisionPoints = this->OutputPointsPrecision == DOUBLE_PRECISION;
         output->ShallowCopy(simpli::vtkmli::layerToPolyData(mli, 0, options));
       },
