@@ -9,7 +9,7 @@
 # If RUN_DIR holds a checkpoint the run resumes from it; otherwise it warm-starts from the
 # shipped weights (model/weights/default.safetensors) and says so in RUN_DIR/launch.log.
 # The binary is copied into RUN_DIR/bin first, so rebuilding the tree never changes the program
-# of a running run. Runs niced in the background; `kill -INT` checkpoints and stops it.
+# of a running run. Runs niced (SIMPLI_NICE, default 15) in the background; `kill -INT` checkpoints and stops it.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 run=${1:?usage: train-long.sh RUN_DIR [CONFIG]}
@@ -47,6 +47,6 @@ if [[ -n "${SIMPLI_VALIDATE:-}" ]]; then
 fi
 args+=("${extra_args[@]}")
 cd "$run"
-nohup nice -n 15 "$run/bin/simpli" train synthetic:1 "${args[@]}" >> "$run/train.log" 2>&1 &
+nohup nice -n "${SIMPLI_NICE:-15}" "$run/bin/simpli" train synthetic:1 "${args[@]}" >> "$run/train.log" 2>&1 &
 echo "$!" > "$run/pid"
 echo "training in the background: pid $(cat "$run/pid"), log $run/train.log"
