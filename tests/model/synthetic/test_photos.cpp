@@ -227,7 +227,10 @@ TEST(PhotoTexture, SomeSurfacesStayProceduralBelowProbabilityOne) {
   for (uint64_t seed = 0; seed < 20; ++seed) {
     SyntheticSceneParams p = photoParams(lib, seed);
     p.photoProbability = 0.5;
-    for (const Texture* t : textures(generateSyntheticScene(p)))
+    // The scene must outlive the loop: textures() points into it (a temporary in the range
+    // expression would die before the loop body; AddressSanitizer found it).
+    const auto scene = generateSyntheticScene(p);
+    for (const Texture* t : textures(scene))
       (t->pattern == Pattern::Photo ? photo : procedural)++;
   }
   EXPECT_GT(photo, 20);
