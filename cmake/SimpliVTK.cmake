@@ -19,12 +19,22 @@ set(SIMPLI_VTK_INSTALL_COMPONENTS simpli_vtk_runtime simpli_vtk_development)
 if (SIMPLI_USE_PARAVIEW)
   # Only what a server-side plugin needs: with no COMPONENTS, ParaView's config makes every
   # external dependency it was built with (Qt5 dev, HDF5, GDAL, ...) REQUIRED.
+  # The plugin's GUI part (plugin/gui: an MLI shown through its camera, the SIMPLI menu) needs
+  # ParaView's Qt client libraries and the Qt5 dev packages their link interface names
+  # (qtbase5-dev, libqt5opengl5-dev: VTK::GUISupportQt links Qt5::OpenGL). Asking ParaView for
+  # pqApplicationComponents without them fails at generate time ("Qt5::OpenGL ... target was
+  # not found"), so ask only when they are there; otherwise the plugin is server-side only.
+  find_package(Qt5 QUIET COMPONENTS Widgets OpenGL)
+  set(_simpli_pv_gui_components "")
+  if (Qt5Widgets_FOUND AND Qt5OpenGL_FOUND)
+    set(_simpli_pv_gui_components pqApplicationComponents)
+  else ()
+    message(STATUS "simpli: no Qt5 Widgets/OpenGL dev packages (qtbase5-dev, libqt5opengl5-dev): "
+                   "the ParaView plugin will have no GUI part")
+  endif ()
   find_package(ParaView 5.11 REQUIRED COMPONENTS
     RemotingCore RemotingServerManager RemotingClientServerStream
-    # The plugin's GUI part (plugin/gui: an MLI shown through its camera, the SIMPLI menu):
-    # ParaView's Qt client libraries and Qt5 dev (qtbase5-dev). Without them the plugin has
-    # only its server-side proxies.
-    OPTIONAL_COMPONENTS pqApplicationComponents)
+    OPTIONAL_COMPONENTS ${_simpli_pv_gui_components})
   if (PARAVIEW_USE_QT AND TARGET ParaView::pqApplicationComponents)
     find_package(Qt5 QUIET COMPONENTS Widgets)
     # pqApplicationComponents' link interface reaches VTK's imported third-party libraries,

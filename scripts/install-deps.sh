@@ -10,10 +10,11 @@ packages=(
   # shared/reference/vtk_paraview_build.md), plus the -dev packages paraview-dev lacks
   paraview paraview-dev python3-paraview libopenmpi-dev libdouble-conversion-dev
   libglew-dev libx11-dev libgl-dev libpython3-dev
-  # the plugin's GUI part (plugin/gui: ParaView's Qt client headers need Qt5 dev; Svg and
+  # the plugin's GUI part (plugin/gui: ParaView's Qt client headers need Qt5 dev; OpenGL
+  # because VTK::GUISupportQt links Qt5::OpenGL (without it CMake cannot generate); Svg and
   # Help only so that ParaView's CMake config finds every Qt component it asks for, without
   # configure warnings)
-  qtbase5-dev libqt5svg5-dev qttools5-dev
+  qtbase5-dev libqt5opengl5-dev libqt5svg5-dev qttools5-dev
   # headless rendering for tests
   xvfb xauth
   # OpenCL (PoCL on the CPU), CLBlast and its tuners
