@@ -4,8 +4,10 @@
 #include "simpli/error.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 
@@ -165,6 +167,31 @@ bool usable(double x, double y, bool logY) {
   return std::isfinite(x) && std::isfinite(y) && (!logY || y > 0);
 }
 
+// Top-left corner of a w x h legend inside the plot area [x0, x1] x [y0, y1]: top right, top
+// left, bottom right or bottom left, the first that covers the fewest of the points (margins
+// included, so that a line passing just beside the box stays visible).
+std::array<int, 2> legendCorner(const std::vector<std::array<double, 2>>& points, int x0, int y0,
+                                int x1, int y1, int w, int h) {
+  const int margin = 6;
+  const std::array<std::array<int, 2>, 4> corners{{{x1 - 4 - w, y0 + margin},
+                                                   {x0 + margin, y0 + margin},
+                                                   {x1 - 4 - w, y1 - margin - h},
+                                                   {x0 + margin, y1 - margin - h}}};
+  std::array<int, 2> best = corners[0];
+  size_t fewest = SIZE_MAX;
+  for (const std::array<int, 2>& c : corners) {
+    size_t covered = 0;
+    for (const std::array<double, 2>& q : points)
+      covered += q[0] >= c[0] - margin && q[0] <= c[0] + w + margin && q[1] >= c[1] - margin &&
+                 q[1] <= c[1] + h + margin;
+    if (covered < fewest) {
+      fewest = covered;
+      best = c;
+    }
+  }
+  return best;
+}
+
 void drawPanel(Canvas& cv, const PlotPanel& p, int top, int height) {
   constexpr int left = 96, right = 20, titleH = 34, bottom = 52, scale = 2;
   const int x0 = left, x1 = cv.width() - right, y0 = top + titleH, y1 = top + height - bottom;
@@ -227,6 +254,7 @@ void drawPanel(Canvas& cv, const PlotPanel& p, int top, int height) {
   }
   cv.text((x0 + x1 - textWidth(p.xLabel, scale)) / 2, y1 + 32, p.xLabel, scale, kAxis);
 
+  std::vector<std::array<double, 2>> drawn; // pixel positions of the points, for the legend
   for (const PlotSeries& s : p.series) {
     double arc = 0;
     bool have = false;
@@ -237,6 +265,7 @@ void drawPanel(Canvas& cv, const PlotPanel& p, int top, int height) {
         continue;
       }
       const double x = px(s.x[i]), y = py(p.logY ? std::log10(s.y[i]) : s.y[i]);
+      drawn.push_back({x, y});
       if (have)
         cv.line(lx, ly, x, y, s.colour, s.dashed, arc);
       if (s.markers)
@@ -246,7 +275,8 @@ void drawPanel(Canvas& cv, const PlotPanel& p, int top, int height) {
       have = true;
     }
   }
-  // The legend last, on white, so that no line runs through it.
+  // The legend last, on white, so that no line runs through it, in the corner where it hides
+  // the fewest points (a validation curve that ends high would vanish under a fixed corner).
   int widest = 0, entries = 0;
   for (const PlotSeries& s : p.series)
     if (!s.name.empty()) {
@@ -255,8 +285,9 @@ void drawPanel(Canvas& cv, const PlotPanel& p, int top, int height) {
     }
   if (entries == 0)
     return;
-  const int lineH = kGlyphH * scale + 6, boxX = x1 - widest - 58, boxY = y0 + 6;
-  cv.fill(boxX, boxY, x1 - 4, boxY + entries * lineH + 6, {1.f, 1.f, 1.f});
+  const int lineH = kGlyphH * scale + 6, boxW = widest + 54, boxH = entries * lineH + 6;
+  const auto [boxX, boxY] = legendCorner(drawn, x0, y0, x1, y1, boxW, boxH);
+  cv.fill(boxX, boxY, boxX + boxW, boxY + boxH, {1.f, 1.f, 1.f});
   int legendY = boxY + 6;
   for (const PlotSeries& s : p.series) {
     if (s.name.empty())

@@ -101,6 +101,28 @@ TEST(RenderPlot, LogAxisSkipsNonPositiveValues) {
   EXPECT_GT(countColour(logged, kRed), 200);
 }
 
+TEST(RenderPlot, LegendHidesNoData) {
+  // A curve low on the left that ends high on the right, where the legend used to sit: every
+  // pixel of the curve drawn without a legend is still red with one.
+  metrics::PlotPanel p;
+  p.series.push_back({"", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10},
+                      {0, 0, 0, 0, 0, 0, 5, 10, 10, 10, 10}, kRed, true});
+  const io::Image bare = metrics::renderPlot({p}, 400, 300);
+  p.series[0].name = "network";
+  const io::Image named = metrics::renderPlot({p}, 400, 300);
+  int hidden = 0, curve = 0;
+  for (int y = 0; y < bare.height; ++y)
+    for (int x = 0; x < bare.width; ++x) {
+      const bool wasRed = bare.at(0, y, x) > 0.99f && bare.at(1, y, x) < -0.99f;
+      const bool isRed = named.at(0, y, x) > 0.99f && named.at(1, y, x) < -0.99f;
+      curve += wasRed;
+      hidden += wasRed && !isRed;
+    }
+  EXPECT_GT(curve, 200);
+  EXPECT_EQ(hidden, 0);
+  EXPECT_GT(countColour(named, kRed), countColour(bare, kRed)); // the legend entry is there
+}
+
 TEST(RenderPlot, StacksPanelsAndRejectsBadInput) {
   metrics::PlotPanel a, b;
   a.series.push_back({"a", {0, 1}, {0, 1}, kRed, true});
