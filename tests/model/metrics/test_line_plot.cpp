@@ -105,8 +105,8 @@ TEST(RenderPlot, LegendHidesNoData) {
   // A curve low on the left that ends high on the right, where the legend used to sit: every
   // pixel of the curve drawn without a legend is still red with one.
   metrics::PlotPanel p;
-  p.series.push_back({"", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10},
-                      {0, 0, 0, 0, 0, 0, 5, 10, 10, 10, 10}, kRed, true});
+  p.series.push_back(
+      {"", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10}, {0, 0, 0, 0, 0, 0, 5, 10, 10, 10, 10}, kRed, true});
   const io::Image bare = metrics::renderPlot({p}, 400, 300);
   p.series[0].name = "network";
   const io::Image named = metrics::renderPlot({p}, 400, 300);
