@@ -72,6 +72,7 @@ void readSynthetic(const json& object, const std::string& source, SyntheticConfi
   f.readInteger("views", out.views);
   f.readInteger("objects", out.objects);
   f.readInteger("antialias", out.antialias);
+  f.readPair("translation", out.translationMin, out.translationMax);
   const std::string size = stringField(f, "size", "");
   if (!size.empty())
     parseWidthHeight(size, named("size"), out.width, out.height);
@@ -176,6 +177,10 @@ void TrainingConfig::validate(const std::string& source) const {
     bad("synthetic.objects", y.objects, "must be 0 .. 1000");
   if (y.antialias < 1 || y.antialias > 16)
     bad("synthetic.antialias", y.antialias, "must be 1 .. 16");
+  if (!(y.translationMin >= 1e-4 && y.translationMin <= y.translationMax &&
+        y.translationMax <= 0.5))
+    fail(source, ": field \"synthetic.translation\" = [", y.translationMin, ", ", y.translationMax,
+         "]: need 0.0001 <= low <= high <= 0.5 (x the nearest depth)");
   if ((y.width == 0) != (y.height == 0) || y.width % 16 != 0 || y.height % 16 != 0 || y.width < 0 ||
       y.height < 0)
     fail(source, ": field \"synthetic.size\" = \"", y.width, "x", y.height,
@@ -291,6 +296,7 @@ std::string toJson(const TrainingConfig& c) {
                        {"views", y.views},
                        {"objects", y.objects},
                        {"antialias", y.antialias},
+                       {"translation", {y.translationMin, y.translationMax}},
                        {"size", y.width > 0
                                     ? std::to_string(y.width) + "x" + std::to_string(y.height)
                                     : std::string()}};

@@ -104,6 +104,8 @@ private:
     p.objects = c.objects;
     p.antialias = c.antialias;
     p.photoProbability = c.photoProbability;
+    p.world.translationMin = c.translationMin;
+    p.world.translationMax = c.translationMax;
     if (c.height > 0 && c.width > 0) {
       p.height = c.height;
       p.width = c.width;

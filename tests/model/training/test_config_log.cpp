@@ -138,11 +138,14 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_EQ(d.synthetic.antialias, 4);
   EXPECT_EQ(d.synthetic.width, 0);
   EXPECT_TRUE(d.synthetic.photosRequired);
+  EXPECT_DOUBLE_EQ(d.synthetic.translationMin, synthetic::WorldStyleParams{}.translationMin);
+  EXPECT_DOUBLE_EQ(d.synthetic.translationMax, synthetic::WorldStyleParams{}.translationMax);
   const TrainingConfig c = parseTrainingConfig(
       R"({"network": "official-4l",
           "synthetic": {"style": "world", "textures": "photo", "photo_probability": 0.5,
                         "photo_dir": "/photos", "photos_required": false, "views": 16,
-                        "objects": 5, "antialias": 2, "size": "256x192"}})",
+                        "objects": 5, "antialias": 2, "size": "256x192",
+                        "translation": [0.1, 0.45]}})",
       "t.json", "");
   EXPECT_EQ(c.synthetic.style, synthetic::SceneStyle::World);
   EXPECT_EQ(c.synthetic.textures, synthetic::TextureSet::Photo);
@@ -154,6 +157,8 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_EQ(c.synthetic.antialias, 2);
   EXPECT_EQ(c.synthetic.width, 256);
   EXPECT_EQ(c.synthetic.height, 192);
+  EXPECT_DOUBLE_EQ(c.synthetic.translationMin, 0.1);
+  EXPECT_DOUBLE_EQ(c.synthetic.translationMax, 0.45);
   const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
   EXPECT_EQ(toJson(back), toJson(c));
   EXPECT_EQ(toJson(parseTrainingConfig(toJson(d), "back", "")), toJson(d));
@@ -161,6 +166,9 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_EQ(firstIncompatibleField(c, back), "");
   TrainingConfig other = c;
   other.synthetic.style = synthetic::SceneStyle::Objects;
+  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
+  other = c;
+  other.synthetic.translationMax = 0.3;
   EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
 }
 
@@ -189,6 +197,12 @@ TEST(TrainConfig, SyntheticSectionBadFieldsAreNamed) {
               {"w.json", "\"synthetic.size\"", "250x190", "multiples of 16"});
   expectError(parse(R"({"size": "big"})"), {"w.json", "\"synthetic.size\"", "'big'"});
   expectError(parse(R"({"sky": true})"), {"w.json", "sky"});
+  expectError(parse(R"({"translation": [0.3, 0.1]})"),
+              {"w.json", "\"synthetic.translation\" = [0.3, 0.1]", "low <= high"});
+  expectError(parse(R"({"translation": [0, 0.2]})"), {"w.json", "\"synthetic.translation\""});
+  expectError(parse(R"({"translation": [0.1, 0.9]})"),
+              {"w.json", "\"synthetic.translation\" = [0.1, 0.9]", "0.5"});
+  expectError(parse(R"({"translation": 0.2})"), {"w.json", "translation"});
   expectError(parse(R"("world")"), {"w.json", "synthetic"});
 }
 

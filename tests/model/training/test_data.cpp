@@ -55,6 +55,34 @@ TEST(TrainData, SyntheticFollowsTheConfigSection) {
   EXPECT_EQ(openTrainingData("synthetic:4", o)->scene(0).width(), 80);
 }
 
+// Largest distance of a camera centre from the mean centre, in the scene's normalised units
+// (nearest depth ~1), as the world style's translation range bounds it.
+double cameraSpread(const scene::Scene& s) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const scene::SceneView& v : s.views)
+    mean += v.camera.centre() / double(s.size());
+  double spread = 0;
+  for (const scene::SceneView& v : s.views)
+    spread = std::max(spread, (v.camera.centre() - mean).norm());
+  return spread;
+}
+
+TEST(TrainData, WorldTranslationRangeSetsTheBaseline) {
+  DataOptions o = smallSynthetic();
+  o.synthetic.style = synthetic::SceneStyle::World;
+  o.synthetic.translationMin = o.synthetic.translationMax = 0.01;
+  auto narrow = openTrainingData("synthetic:4", o);
+  o.synthetic.translationMin = o.synthetic.translationMax = 0.4;
+  auto wide = openTrainingData("synthetic:4", o);
+  // The scene is normalised by its near bound (nearest visible depth, 0.9 .. 1.25 x the near
+  // depth the range refers to), so the spread is the drawn fraction within that factor.
+  const double a = cameraSpread(narrow->scene(0)), b = cameraSpread(wide->scene(0));
+  EXPECT_GT(a, 0.01 * 0.7);
+  EXPECT_LT(a, 0.01 * 1.3);
+  EXPECT_GT(b, 0.4 * 0.7);
+  EXPECT_LT(b, 0.4 * 1.3);
+}
+
 TEST(TrainData, PhotoTexturesFromAFolder) {
   test::TempDir photos;
   writeTestPhoto(photos.str("blocks.png"));

@@ -33,7 +33,8 @@
 //                 "photos_required": true,          // photo textures but no photos: error
 //                                                   // (true) or procedural + notice (false)
 //                 "views": 12, "objects": 8, "antialias": 4,
-//                 "size": "192x128"}                // WxH; --size overrides; "" = 192x128
+//                 "size": "192x128",                // WxH; --size overrides; "" = 192x128
+//                 "translation": [0.01, 0.3]}       // world style: camera spread / near depth
 // }
 #include "simpli/model/network/config.h"
 #include "simpli/model/synthetic/scene.h"
@@ -85,6 +86,11 @@ struct SyntheticConfig {
   int objects = 8; ///< objects (objects style) or occluders (world style)
   int antialias = 4;
   int width = 0, height = 0; ///< 0 = the generator's 192 x 128; --size overrides
+  /// World style: the farthest camera centre's distance from the mean centre / nearest depth,
+  /// drawn log-uniform in [min, max] per scene (synthetic::WorldStyleParams; the objects style
+  /// ignores it). Real handheld captures reach 0.25 .. 0.55 (LLFF flower: ~0.28).
+  double translationMin = synthetic::WorldStyleParams{}.translationMin;
+  double translationMax = synthetic::WorldStyleParams{}.translationMax;
 };
 
 /// The loss terms, in log order, with the reference's key names.
