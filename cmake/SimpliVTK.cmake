@@ -21,22 +21,22 @@ if (SIMPLI_USE_PARAVIEW)
   # external dependency it was built with (Qt5 dev, HDF5, GDAL, ...) REQUIRED.
   # The plugin's GUI part (plugin/gui: an MLI shown through its camera, the SIMPLI menu) needs
   # ParaView's Qt client libraries and the Qt5 dev packages their link interface names
-  # (qtbase5-dev, libqt5opengl5-dev: VTK::GUISupportQt links Qt5::OpenGL). Asking ParaView for
+  # (qtbase5-dev, libqt5opengl5-dev: VTK::GUISupportQt links Qt5::OpenGL). Linking
   # pqApplicationComponents without them fails at generate time ("Qt5::OpenGL ... target was
-  # not found"), so ask only when they are there; otherwise the plugin is server-side only.
+  # not found"), so SIMPLI_PARAVIEW_GUI (plugin/, tests/vtk/) is ON only when they are there;
+  # otherwise the plugin is server-side only.
   find_package(Qt5 QUIET COMPONENTS Widgets OpenGL)
-  set(_simpli_pv_gui_components "")
-  if (Qt5Widgets_FOUND AND Qt5OpenGL_FOUND)
-    set(_simpli_pv_gui_components pqApplicationComponents)
-  else ()
-    message(STATUS "simpli: no Qt5 Widgets/OpenGL dev packages (qtbase5-dev, libqt5opengl5-dev): "
-                   "the ParaView plugin will have no GUI part")
-  endif ()
   find_package(ParaView 5.11 REQUIRED COMPONENTS
     RemotingCore RemotingServerManager RemotingClientServerStream
-    OPTIONAL_COMPONENTS ${_simpli_pv_gui_components})
+    OPTIONAL_COMPONENTS pqApplicationComponents)
+  set(SIMPLI_PARAVIEW_GUI OFF)
   if (PARAVIEW_USE_QT AND TARGET ParaView::pqApplicationComponents)
-    find_package(Qt5 QUIET COMPONENTS Widgets)
+    if (Qt5Widgets_FOUND AND Qt5OpenGL_FOUND)
+      set(SIMPLI_PARAVIEW_GUI ON)
+    else ()
+      message(STATUS "simpli: no Qt5 Widgets/OpenGL dev packages (qtbase5-dev, "
+                     "libqt5opengl5-dev): the ParaView plugin will have no GUI part")
+    endif ()
     # pqApplicationComponents' link interface reaches VTK's imported third-party libraries,
     # whose own interfaces name targets of their -dev packages (HDF5, libxml2, NetCDF, Boost)
     # that the plugin never uses: the shared libraries carry their own dependencies. Empty
