@@ -242,8 +242,10 @@ void SyntheticSceneParams::validate() const {
     checkRange("world.farRatioMin", w.farRatioMin, 3.0, 1e5);
     checkRange("world.farRatioMax", w.farRatioMax, w.farRatioMin, 1e5);
     checkRange("world.skyProbability", w.skyProbability, 0.0, 1.0);
-    checkRange("world.translationMin", w.translationMin, 1e-4, 0.5);
-    checkRange("world.translationMax", w.translationMax, w.translationMin, 0.5);
+    checkRange("world.translationMin", w.translationMin, WorldStyleParams::kTranslationLow,
+               WorldStyleParams::kTranslationHigh);
+    checkRange("world.translationMax", w.translationMax, w.translationMin,
+               WorldStyleParams::kTranslationHigh);
     checkRange("world.rotationDegreesMax", w.rotationDegreesMax, 0.0, 10.0);
     checkRange("world.thinStructuresMin", w.thinStructuresMin, 0, 100);
     checkRange("world.thinStructuresMax", w.thinStructuresMax, w.thinStructuresMin, 100);

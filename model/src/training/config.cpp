@@ -177,10 +177,12 @@ void TrainingConfig::validate(const std::string& source) const {
     bad("synthetic.objects", y.objects, "must be 0 .. 1000");
   if (y.antialias < 1 || y.antialias > 16)
     bad("synthetic.antialias", y.antialias, "must be 1 .. 16");
-  if (!(y.translationMin >= 1e-4 && y.translationMin <= y.translationMax &&
-        y.translationMax <= 0.5))
+  using World = synthetic::WorldStyleParams;
+  if (!(y.translationMin >= World::kTranslationLow && y.translationMin <= y.translationMax &&
+        y.translationMax <= World::kTranslationHigh))
     fail(source, ": field \"synthetic.translation\" = [", y.translationMin, ", ", y.translationMax,
-         "]: need 0.0001 <= low <= high <= 0.5 (x the nearest depth)");
+         "]: need ", World::kTranslationLow, " <= low <= high <= ", World::kTranslationHigh,
+         " (x the nearest depth)");
   if ((y.width == 0) != (y.height == 0) || y.width % 16 != 0 || y.height % 16 != 0 || y.width < 0 ||
       y.height < 0)
     fail(source, ": field \"synthetic.size\" = \"", y.width, "x", y.height,

@@ -52,6 +52,8 @@ struct WorldStyleParams {
   /// handheld captures reach far more than a few %: LLFF flower's centres lie up to 0.55 x its
   /// near bound apart (`simpli info`), about 0.28 from their mean.
   double translationMin = 0.01, translationMax = 0.3;
+  /// What validate() accepts for the translation range (training configs check the same).
+  static constexpr double kTranslationLow = 1e-4, kTranslationHigh = 0.5;
   double rotationDegreesMax = 2.0; ///< bound on yaw, pitch, roll: 0.25 .. 1 x this per scene
   int thinStructuresMin = 1, thinStructuresMax = 4; ///< poles, posts, wires, branches
 };
