@@ -7,6 +7,7 @@
 #include "simpli/error.h"
 #include "simpli/model/geometry/layer_unproject.h"
 
+#include "simpli/ocl/autograd.h"
 #include "simpli/ocl/ops_elementwise.h"
 #include "simpli/ocl/ops_reduce.h"
 #include "simpli/ocl/ops_shape.h"
@@ -26,6 +27,44 @@ std::pair<Tensor, Tensor> weightedMeanVar(const Tensor& samples, const Tensor& w
   const Tensor centred = ocl::sub(samples, ocl::unsqueeze(mean, 0));
   const Tensor var = ocl::sum(ocl::mul(ocl::square(centred), weights), 0);
   return {mean, var};
+}
+
+// The aggregation as composed ops (the reference's form; the training path): state, the
+// weighted mean / variance of the samples and, with attention, of the attended tokens ->
+// [S, Cs + 2C (+ 2C), h, w].
+Tensor composedAggregation(const Context& ctx, const network::TBlock& block,
+                           const std::string& name, const std::string& stage, const Tensor& state,
+                           const Tensor& samples, const Tensor& weights) {
+  const int64_t V = samples.size(0), S = samples.size(1), C = samples.size(2);
+  const int64_t h = samples.size(3), w = samples.size(4);
+  const auto [mean, var] = weightedMeanVar(samples, weights);
+  std::vector<Tensor> parts{state, mean, var};
+  ctx.clock->mark(stage + "_unproject");
+
+  if (block.attention) {
+    // Tokens [S*h*w, V, C + 1] = [samples | weight] per (surface, pixel); every view attends to
+    // every view (invalid views included, with zero samples and zero weight).
+    const Tensor tokens = ocl::reshape(
+        ocl::permute(ocl::concat({samples, weights}, 2), {1, 3, 4, 0, 2}), {S * h * w, V, C + 1});
+    ctx.hook(name + ".attention_agg.in0", tokens);
+    const Tensor attended = chunked(tokens, h * w, [&](const Tensor& surface) {
+      return block.attention->forward(surface);
+    }); // [S*h*w, V, C], one surface at a time in inference
+    ctx.hook(name + ".attention_agg.out", attended);
+    const Tensor perView =
+        ocl::permute(ocl::reshape(attended, {S, h, w, V, C}), {3, 0, 4, 1, 2}); // [V, S, C, h, w]
+    const auto [attMean, attVar] = weightedMeanVar(perView, weights);
+    parts.push_back(attMean);
+    parts.push_back(attVar);
+    ctx.clock->mark(stage + "_attention");
+  }
+  return ocl::concat(parts, 1);
+}
+
+// The fused aggregation gives no tokens to a stage hook and records no gradient.
+bool useFusedAggregation(const Context& ctx, int64_t views) {
+  return ctx.options.fusedAggregation && !ctx.options.stageHook && !ocl::GradMode::enabled() &&
+         views <= network::ViewAttention::kMaxFusedViews;
 }
 
 } // namespace
@@ -91,33 +130,18 @@ Tensor mliCorrection(const Context& ctx, int level, const Surfaces& mesh, const 
   const geometry::SurfaceSamples sampled =
       geometry::unprojectLayers(maps, depth, ctx.input.reference, ctx.input.sources);
   const Tensor& samples = sampled.samples;
-  const int64_t V = samples.size(0), S = samples.size(1), C = samples.size(2);
-  const int64_t h = samples.size(3), w = samples.size(4);
   // w_v = m_v / (sum_v m_v + 1e-7).
   const Tensor weights =
       ocl::div(sampled.mask, ocl::addScalar(ocl::sum(sampled.mask, 0, /*keepdim=*/true), 1e-7));
-  const auto [mean, var] = weightedMeanVar(samples, weights);
-  std::vector<Tensor> parts{state, mean, var};
-  ctx.clock->mark(stage + "_unproject");
-
-  if (block.attention) {
-    // Tokens [S*h*w, V, C + 1] = [samples | weight] per (surface, pixel); every view attends to
-    // every view (invalid views included, with zero samples and zero weight).
-    const Tensor tokens = ocl::reshape(
-        ocl::permute(ocl::concat({samples, weights}, 2), {1, 3, 4, 0, 2}), {S * h * w, V, C + 1});
-    ctx.hook(name + ".attention_agg.in0", tokens);
-    const Tensor attended = chunked(tokens, h * w, [&](const Tensor& surface) {
-      return block.attention->forward(surface);
-    }); // [S*h*w, V, C], one surface at a time in inference
-    ctx.hook(name + ".attention_agg.out", attended);
-    const Tensor perView =
-        ocl::permute(ocl::reshape(attended, {S, h, w, V, C}), {3, 0, 4, 1, 2}); // [V, S, C, h, w]
-    const auto [attMean, attVar] = weightedMeanVar(perView, weights);
-    parts.push_back(attMean);
-    parts.push_back(attVar);
-    ctx.clock->mark(stage + "_attention");
+  Tensor x;
+  if (block.attention && useFusedAggregation(ctx, samples.size(0))) {
+    // [S, Cs + 4C, h, w]: state | mean | var | attended mean | attended var, as composed below.
+    ctx.clock->mark(stage + "_unproject");
+    x = ocl::concat({state, block.attention->aggregate(samples, weights)}, 1);
+    ctx.clock->mark(stage + "_attention"); // the samples' mean / variance included
+  } else {
+    x = composedAggregation(ctx, block, name, stage, state, samples, weights);
   }
-  const Tensor x = ocl::concat(parts, 1); // [S, Cs + 2C (+ 2C), h, w]
   ctx.hook(name + ".post_aggregate_block.in0", x);
   const Tensor out =
       chunked(x, 1, [&](const Tensor& surface) { return block.postAggregate.forward(surface); });

@@ -32,6 +32,7 @@ public:
   int headDim() const { return headDim_; }
 
 private:
+  friend class ViewAttention; // its fused inference path reads the weights directly
   int in_ = 0, heads_ = 1, headDim_ = 0, out_ = 0;
   ocl::Tensor wq_, wk_, wv_, fc_, lnWeight_, lnBias_;
 };
@@ -47,6 +48,14 @@ public:
 
   /// tokens [N, V, Cin + 1] -> [N, V, Cin].
   ocl::Tensor forward(const ocl::Tensor& tokens, ocl::Tensor* attention = nullptr) const;
+
+  /// The whole aggregation of an MLI correction level in one kernel, for inference (no
+  /// gradient; fails when one is needed): samples [V, S, Cin, h, w] and their view weights
+  /// [V, S, 1, h, w] -> [S, 4 Cin, h, w] = the weighted mean and variance over the views of
+  /// the samples, then of forward([samples | weight]) (view_aggregation.cpp).
+  ocl::Tensor aggregate(const ocl::Tensor& samples, const ocl::Tensor& weights) const;
+  /// Views the fused kernel keeps in private memory (more fall back to the composed form).
+  static constexpr int kMaxFusedViews = 32;
   int sourceChannels() const { return attention_.outChannels(); }
 
 private:
