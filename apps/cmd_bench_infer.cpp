@@ -4,10 +4,11 @@
 // the pass; buffers parked in the pool for reuse are reported separately and released after
 // every view count). One untimed warm-up pass per view count compiles the kernels and fills the
 // buffer pool; the reported times are medians over --repeat passes. Measures, never asserts.
-// Beside its own time it prints the ratio to the reference implementation (PyTorch on the CPU)
-// when a reference time for the same size and view count is given (--reference-ms, measured
-// with the reference's sources on this machine); without one it says it has none. The GEMM
-// backend and the OpenBLAS kernel are printed too (`bench infer` re-executes itself without
+// Beside its own time it prints the ratio to the reference implementation (PyTorch on the CPU):
+// --reference DIR times the user's checkout of the reference sources in the same run
+// (scripts/time_reference.py: same size and view count, random weights, its CUDA-only renderer
+// stubbed), --reference-ms takes times measured earlier; without either it says it has none. The
+// GEMM backend and the OpenBLAS kernel are printed too (`bench infer` re-executes itself without
 // OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE like `bench ops`, see cmd_bench.cpp).
 #include "simpli/model/network/loader.h"
 
@@ -28,6 +29,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
@@ -45,7 +48,54 @@ struct BenchInferOptions {
   int corrections = -1;
   std::string device;
   std::vector<double> referenceMs; // one per view count, or empty
+  std::string referenceDir;        // a checkout of the reference sources, or empty
 };
+
+std::string shellQuoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s)
+    q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// Times the reference generator with scripts/time_reference.py (PyTorch on the CPU, with the
+/// OpenBLAS variables already removed from this process's environment) and returns its median
+/// forward time in ms; fails with the script's reason when it cannot.
+double timeReference(const std::string& dir, const std::string& config, int W, int H, int V,
+                     int repeat) {
+  const std::string script = std::string(SIMPLI_SOURCE_DIR) + "/scripts/time_reference.py";
+  const std::string command = "/usr/bin/python3 " + shellQuoted(script) + " --reference " +
+                              shellQuoted(dir) + " --size " + std::to_string(W) + "x" +
+                              std::to_string(H) + " --views " + std::to_string(V) + " --repeat " +
+                              std::to_string(repeat) + " --config " + shellQuoted(config) + " 2>&1";
+  std::printf("  timing the reference (%s) ...\n", dir.c_str());
+  std::fflush(stdout);
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe)
+    fail("--reference ", dir, ": cannot run ", script);
+  std::string output, line;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe))
+    output += buffer;
+  const int status = pclose(pipe);
+  double ms = -1;
+  std::string reason;
+  std::size_t pos = 0;
+  while (pos < output.size()) {
+    const std::size_t end = std::min(output.find('\n', pos), output.size());
+    line = output.substr(pos, end - pos);
+    if (line.rfind("reference_ms ", 0) == 0)
+      ms = std::strtod(line.c_str() + 13, nullptr);
+    else if (!line.empty() && line.find("Warning") == std::string::npos &&
+             line.find("warnings.warn") == std::string::npos)
+      reason = line; // the last line that is not a PyTorch warning
+    pos = end + 1;
+  }
+  if (status != 0 || !(ms > 0))
+    fail("--reference ", dir, ": the reference was not timed (", script, ": ",
+         reason.empty() ? std::string("no output") : reason, ")");
+  return ms;
+}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -92,6 +142,22 @@ void runBenchInfer(const BenchInferOptions& o) {
   for (int v : o.views)
     if (v < 1 || v > 64)
       fail("--views ", v, ": view counts must be in 1..64");
+  // The reference's config of the same network (its own files, relative to the checkout).
+  const std::string referenceConfig =
+      o.config == "official-4l"   ? "pretrained/model4_layers/tblock4.yaml"
+      : o.config == "official-8l" ? "pretrained/model8_layers/tblock8.yaml"
+                                  : "";
+  if (!o.referenceDir.empty() && referenceConfig.empty())
+    fail("--reference: the reference has only the official networks; --config ", o.config,
+         " has no counterpart (use official-4l or official-8l)");
+  if (!o.referenceDir.empty() && !o.referenceMs.empty())
+    fail("--reference and --reference-ms: give one of them (a checkout to time, or times)");
+  if (!o.referenceDir.empty() &&
+      !std::filesystem::is_regular_file(std::filesystem::path(o.referenceDir) / "lib" / "networks" /
+                                        "generators" / "gen_simpli.py"))
+    fail("--reference ", o.referenceDir,
+         ": not a checkout of the reference sources (SamsungLabs/MLI: no "
+         "lib/networks/generators/gen_simpli.py)");
   if (!o.referenceMs.empty() && o.referenceMs.size() != o.views.size())
     fail("--reference-ms: ", o.referenceMs.size(), " time(s) for ", o.views.size(),
          " view count(s); give one per view count");
@@ -107,6 +173,11 @@ void runBenchInfer(const BenchInferOptions& o) {
   ocl::NoGradGuard noGrad;
   for (std::size_t vi = 0; vi < o.views.size(); ++vi) {
     const int V = o.views[vi];
+    // The reference first: a checkout that cannot run fails before the long pass.
+    const double referenceMs =
+        !o.referenceDir.empty() ? timeReference(o.referenceDir, referenceConfig, W, H, V, o.repeat)
+        : o.referenceMs.empty() ? 0.0
+                                : o.referenceMs[vi];
     const generator::GeneratorInput input = rigInput(V, H, W, 1234 + V);
     generator::GeneratorOptions options;
     options.corrections = o.corrections;
@@ -136,13 +207,14 @@ void runBenchInfer(const BenchInferOptions& o) {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     std::printf("  peak process memory (max RSS so far) %.1f MiB\n", usage.ru_maxrss / 1024.0);
-    if (o.referenceMs.empty())
-      std::printf("  reference (PyTorch CPU): not measured here (no reference time: pass "
-                  "--reference-ms, timed with the reference's sources at %dx%d, V = %d)\n",
+    if (referenceMs <= 0)
+      std::printf("  reference (PyTorch CPU): not measured here (pass --reference DIR, a "
+                  "checkout of the reference sources, or --reference-ms for %dx%d, V = %d)\n",
                   W, H, V);
     else
-      std::printf("  reference (PyTorch CPU) %.1f ms: simpli / reference = %.2f\n",
-                  o.referenceMs[vi], median(totals) / o.referenceMs[vi]);
+      std::printf("  reference (PyTorch CPU%s) %.1f ms: simpli / reference = %.2f\n",
+                  o.referenceDir.empty() ? ", given" : ", this run", referenceMs,
+                  median(totals) / referenceMs);
     for (const std::string& name : names)
       std::printf("  %-18s %10.1f ms\n", name.c_str(), median(times[name]));
     pool.trim(); // hand the parked buffers back before the next (larger) view count
@@ -164,6 +236,9 @@ void addBenchInferCommand(CLI::App& bench) {
   cmd->add_option("--repeat", o->repeat, "Timed passes per view count (median reported)");
   cmd->add_option("--corrections", o->corrections, "MLI corrections to run (default all)");
   cmd->add_option("--device", o->device, "OpenCL device as platform:device (see simpli devices)");
+  cmd->add_option("--reference", o->referenceDir,
+                  "A checkout of the reference sources (SamsungLabs/MLI): time its generator "
+                  "with PyTorch on the CPU in this run (scripts/time_reference.py)");
   cmd->add_option("--reference-ms", o->referenceMs,
                   "The reference's forward time per view count (ms, comma separated), for the "
                   "ratio")
