@@ -71,7 +71,7 @@ struct BenchRenderOptions {
   int frames = 60;
   int warmup = 5;
   double maxSeconds = 20.0;
-  std::vector<double> tolerances{0.25};
+  std::vector<double> tolerances{1.0};
   std::string saveMli;    ///< write the MLI rendered (e.g. the synthetic one) here, lossless form
   bool raster = false;    ///< also time the OpenCL rasterizer on both forms
   std::string saveImages; ///< write every form's images at the sample cameras here (PNG)

@@ -80,7 +80,7 @@ struct TradeOptions {
   std::vector<double> scales{0.5, 0.75, 1.0};
   std::vector<std::string> dtypes{"f32", "f64"};
   std::vector<double> tolerances{0.1, 0.25, 1.0, 4.0};
-  double tolerance = 0.25; ///< the default point's
+  double tolerance = 1.0; ///< the default point's
   double layerMarginDb = 0.2;
 };
 
@@ -91,7 +91,7 @@ struct Point {
   int planes = 0, corrections = 0;
   double scale = 1.0;
   std::string dtype = "f32";
-  double tolerance = 0.25;
+  double tolerance = 1.0;
   bool autoLayers = false;
 };
 

@@ -72,7 +72,7 @@ namespace simpli::mli {
 struct AdaptiveMeshOptions {
   /// Largest reprojection error (pixels of the layer grid) at a visible texel for a camera
   /// displaced by cameraOffset; >= 0 (0 keeps only exactly planar regions merged).
-  double tolerancePixels = 0.25;
+  double tolerancePixels = 1.0; // 60-65 fps at < 0.05 dB (docs/benchmarks.md, Display)
   /// Lateral camera offset B of the error measure (scene units); 0 (the default) picks
   /// defaultCameraOffset(mli).
   double cameraOffset = 0.0;
