@@ -25,11 +25,52 @@ try:
     from paraview.simple import GetActiveViewOrCreate, Render, SaveData, SaveScreenshot, Show
     import paraview.simple as pvs
 
+    from paraview import servermanager
+
     if not hasattr(pvs, "SIMPLIBuildMLI"):
         finish(1, "FAIL: SIMPLIBuildMLI is not defined: the plugin was not loaded at start-up")
-    build = pvs.SIMPLIBuildMLI(SceneFileName=os.environ["SIMPLI_GUI_SCENE"],
-                               WeightsFile=os.environ["SIMPLI_GUI_WEIGHTS"],
-                               SourceViews="0,4,8")
+    settings = dict(SceneFileName=os.environ["SIMPLI_GUI_SCENE"],
+                    WeightsFile=os.environ["SIMPLI_GUI_WEIGHTS"], SourceViews="0,4,8")
+    problems = []
+
+    # Progress and abort as the GUI sees them: the session's progress handler is what feeds
+    # the GUI's progress bar (pqProgressManager); an abort sets the filter's AbortExecute.
+    handler = servermanager.vtkProcessModule.GetProcessModule().GetSession().GetProgressHandler()
+    aborted = pvs.SIMPLIBuildMLI(**settings)
+    seen = []
+
+    def abort_midway(obj, event):
+        seen.append((obj.GetLastProgress(), obj.GetLastProgressText() or ""))
+        if obj.GetLastProgress() >= 30 and "SIMPLI" in seen[-1][1]:
+            aborted.GetClientSideObject().SetAbortExecute(1)
+
+    tag = handler.AddObserver("ProgressEvent", abort_midway)
+    aborted.UpdatePipeline()
+    handler.RemoveObserver(tag)
+    partial = aborted.GetClientSideObject().GetOutputDataObject(0)
+    if not any(p >= 30 for p, _ in seen):
+        problems.append(f"abort: the GUI saw no progress of 30 % or more ({seen[:5]})")
+    if partial is not None and partial.GetNumberOfPartitionedDataSets() != 0:
+        problems.append(f"abort: the aborted build left {partial.GetNumberOfPartitionedDataSets()}"
+                        " layers (a half-built MLI)")
+    log.write(f"abort: {len(seen)} progress events before the abort at "
+              f"{max(p for p, _ in seen) if seen else -1} %, output layers "
+              f"{partial.GetNumberOfPartitionedDataSets() if partial is not None else 'none'}\n")
+    pvs.Delete(aborted)
+
+    progress = []
+    tag = handler.AddObserver(
+        "ProgressEvent",
+        lambda obj, event: progress.append((obj.GetLastProgress(), obj.GetLastProgressText() or "")))
+    build = pvs.SIMPLIBuildMLI(**settings)
+    build.UpdatePipeline()
+    handler.RemoveObserver(tag)
+    ours = [p for p, text in progress if "SIMPLI" in text]
+    if len(ours) < 5 or max(ours) < 90 or ours != sorted(ours):
+        problems.append(f"progress: the GUI saw {len(ours)} SIMPLI progress events, "
+                        f"{ours[:3]} .. {ours[-3:]} (expected >= 5, increasing, up to >= 90 %)")
+    log.write(f"progress: {len(ours)} events from {progress[0][1] if progress else '-'}, "
+              f"{ours[:1]} .. {ours[-1:]} %\n")
     view = GetActiveViewOrCreate("RenderView")
     display = Show(build, view)
     Render(view)
@@ -40,7 +81,6 @@ try:
     E = np.array(fd.GetArray("CameraExtrinsics").GetTuple(0)).reshape(3, 4)
     W, H = (int(v) for v in fd.GetArray("CameraImageSize").GetTuple(0))
     centre = -E[:, :3].T @ E[:, 3]
-    problems = []
     if list(display.ColorArrayName) != ["POINTS", "RGBA"]:
         problems.append(f"coloured by {list(display.ColorArrayName)}, expected POINTS RGBA")
     if display.MapScalars != 0:
