@@ -37,7 +37,9 @@ __kernel void view_attention_meanvar(const int S, const int hw, __global const R
     tok[v][CH] = w[v];
   }
   __global REAL* o = out + s * 4 * CH * hw + p;
-  // Weighted mean and variance of the samples (two passes, like the composed form).
+  // Weighted mean and variance of the samples (two passes, like the composed form). Written
+  // out here and for the attended tokens below: the measured form (a helper taking pointers
+  // into the private arrays was not faster and may keep PoCL from keeping them in registers).
   for (int c = 0; c < CH; ++c) {
     REAL mean = 0, var = 0;
     for (int v = 0; v < VIEWS; ++v)
