@@ -64,10 +64,17 @@ TrainingMonitor::TrainingMonitor(std::string runDir, ValidationOptions options)
 }
 
 void TrainingMonitor::begin(int64_t resumeStep) {
-  lastValidated_ = resumeStep;
-  if (data_)
-    log_ = std::make_unique<TrainLog>((fs::path(runDir_) / "val.csv").string(), valColumns(),
-                                      resumeStep);
+  lastValidated_ = -1;
+  if (!data_)
+    return;
+  const std::string path = (fs::path(runDir_) / "val.csv").string();
+  log_ = std::make_unique<TrainLog>(path, valColumns(), resumeStep);
+  // The schedule counts from the last validation kept (a run stopped between two validations
+  // resumes on the same schedule); with none, the first checkpoint validates.
+  if (resumeStep >= 0)
+    for (const std::vector<double>& row : TrainLog::read(path))
+      if (!row.empty())
+        lastValidated_ = static_cast<int64_t>(row[0]);
 }
 
 TrainingMonitor::~TrainingMonitor() = default;

@@ -99,6 +99,26 @@ TEST(TrainingMonitor, ResumeKeepsValidationRowsUpToTheCheckpoint) {
   EXPECT_EQ(rows[2][0], 6);
 }
 
+// A run stopped between two validations (Ctrl-C at step 5, last validated at 2) keeps their
+// schedule: the next validation is at 4, not 2 steps after the resumed step.
+TEST(TrainingMonitor, ResumeBetweenValidationsKeepsTheSchedule) {
+  TempDir run;
+  writeTrainLog(run, 6);
+  network::SimpliNetwork net = tinyNetwork();
+  {
+    TrainingMonitor m(run.str(), smallValidation());
+    m.begin(-1);
+    m.update(net, 2);
+    EXPECT_FALSE(m.update(net, 3));
+  }
+  TrainingMonitor resumed(run.str(), smallValidation());
+  resumed.begin(3);
+  ASSERT_TRUE(resumed.update(net, 4)); // 2 steps after the validation at 2
+  const std::vector<std::vector<double>> rows = TrainLog::read(run.str("val.csv"));
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1][0], 4);
+}
+
 TEST(TrainingMonitor, WithoutValidationDrawsTheLossCurveOnly) {
   TempDir run;
   writeTrainLog(run, 3);
