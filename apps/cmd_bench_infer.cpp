@@ -73,27 +73,20 @@ double timeReference(const std::string& dir, const std::string& config, int W, i
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe)
     fail("--reference ", dir, ": cannot run ", script);
-  std::string output, line;
+  std::string output;
   char buffer[4096];
   while (std::fgets(buffer, sizeof buffer, pipe))
     output += buffer;
   const int status = pclose(pipe);
-  double ms = -1;
-  std::string reason;
-  std::size_t pos = 0;
-  while (pos < output.size()) {
-    const std::size_t end = std::min(output.find('\n', pos), output.size());
-    line = output.substr(pos, end - pos);
-    if (line.rfind("reference_ms ", 0) == 0)
-      ms = std::strtod(line.c_str() + 13, nullptr);
-    else if (!line.empty() && line.find("Warning") == std::string::npos &&
-             line.find("warnings.warn") == std::string::npos)
-      reason = line; // the last line that is not a PyTorch warning
-    pos = end + 1;
-  }
+  // The script's last line: "reference_ms <median> ..." when it ran, else its reason
+  // ("reference not timed: ...") or the exception that stopped it.
+  output.erase(output.find_last_not_of('\n') + 1); // npos + 1 = 0: no output at all
+  const std::string last = output.substr(output.rfind('\n') + 1);
+  const double ms =
+      last.rfind("reference_ms ", 0) == 0 ? std::strtod(last.c_str() + 13, nullptr) : -1;
   if (status != 0 || !(ms > 0))
     fail("--reference ", dir, ": the reference was not timed (", script, ": ",
-         reason.empty() ? std::string("no output") : reason, ")");
+         last.empty() ? std::string("no output") : last, ")");
   return ms;
 }
 
