@@ -33,6 +33,7 @@ struct BenchTrainOptions {
   std::string size;
   int steps = 5, warmup = 1;
   std::string device;
+  std::string baseline; ///< "composed": also time the composed view aggregation
 };
 
 std::string loadAverage() {
@@ -72,11 +73,29 @@ std::string area(const std::string& kernel) {
   return program;
 }
 
+struct Summary {
+  double mean = 0, std = 0, min = 0;
+};
+
+Summary summarise(const std::vector<double>& ms) {
+  Summary r;
+  for (double v : ms)
+    r.mean += v / ms.size();
+  for (double v : ms)
+    r.std += (v - r.mean) * (v - r.mean) / std::max<std::size_t>(1, ms.size() - 1);
+  r.std = std::sqrt(r.std);
+  r.min = *std::min_element(ms.begin(), ms.end());
+  return r;
+}
+
 void runBenchTrain(const BenchTrainOptions& o) {
   if (o.steps < 1)
     fail("--steps ", o.steps, ": must be >= 1");
   if (o.warmup < 0)
     fail("--warmup ", o.warmup, ": must be >= 0");
+  if (!o.baseline.empty() && o.baseline != "composed")
+    fail("--baseline '", o.baseline, "': the one baseline is 'composed' (the view aggregation as "
+         "composed ops instead of the fused kernels)");
   if (!o.device.empty()) {
     const auto [p, d] = ocl::Device::parseSelector(o.device, "--device");
     ocl::Device::select(p, d);
@@ -91,27 +110,50 @@ void runBenchTrain(const BenchTrainOptions& o) {
   if (!o.size.empty())
     training::parseWidthHeight(o.size, "--size", t.dataOptions.width, t.dataOptions.height);
   training::Trainer trainer(&config, t);
+  // The baseline trains the same network on the same samples (same seed) with the view
+  // aggregation as composed ops; its steps alternate with the measured ones, so both see the
+  // same machine load.
+  std::unique_ptr<TempRun> baselineRun;
+  std::unique_ptr<training::Trainer> baseline;
+  if (!o.baseline.empty()) {
+    baselineRun = std::make_unique<TempRun>();
+    training::TrainerOptions b = t;
+    b.runDir = baselineRun->str();
+    b.fusedAggregation = false;
+    baseline = std::make_unique<training::Trainer>(&config, b);
+  }
   const ocl::DeviceInfo& dev = ocl::Device::current().info();
   std::printf("simpli bench train: config %s (%s), data %s, device %s; load average %s\n",
               o.config.c_str(), config.network.name.c_str(), o.data.c_str(), dev.deviceName.c_str(),
               loadAverage().c_str());
   for (int i = 0; i < o.warmup; ++i) {
-    const training::StepReport r = trainer.trainStep();
-    std::printf("warm-up step %d: %.0f ms\n", i + 1, r.ms);
+    std::printf("warm-up step %d: %.0f ms", i + 1, trainer.trainStep().ms);
+    if (baseline)
+      std::printf(", baseline %.0f ms", baseline->trainStep().ms);
+    std::printf("\n");
   }
-  std::vector<double> ms;
+  std::vector<double> ms, baseMs;
   for (int i = 0; i < o.steps; ++i) {
     ms.push_back(trainer.trainStep().ms);
-    std::printf("step %d: %.0f ms\n", i + 1, ms.back());
+    std::printf("step %d: %.0f ms", i + 1, ms.back());
+    if (baseline) {
+      baseMs.push_back(baseline->trainStep().ms);
+      std::printf(", baseline (%s aggregation) %.0f ms, ratio %.2f", o.baseline.c_str(),
+                  baseMs.back(), ms.back() / baseMs.back());
+    }
+    std::printf("\n");
   }
-  double mean = 0, var = 0;
-  for (double v : ms)
-    mean += v / ms.size();
-  for (double v : ms)
-    var += (v - mean) * (v - mean) / std::max<std::size_t>(1, ms.size() - 1);
-  std::printf("train step: %.0f +- %.0f ms (min %.0f) over %zu steps; load average %s\n", mean,
-              std::sqrt(var), *std::min_element(ms.begin(), ms.end()), ms.size(),
-              loadAverage().c_str());
+  const Summary step = summarise(ms);
+  std::printf("train step: %.0f +- %.0f ms (min %.0f) over %zu steps; load average %s\n",
+              step.mean, step.std, step.min, ms.size(), loadAverage().c_str());
+  if (baseline) {
+    const Summary base = summarise(baseMs);
+    std::printf("baseline (%s aggregation): %.0f +- %.0f ms (min %.0f); ratio of the means %.2f "
+                "(%.2fx faster)\n",
+                o.baseline.c_str(), base.mean, base.std, base.min, step.mean / base.mean,
+                base.mean / step.mean);
+    baseline.reset();
+  }
 
   // The breakdown: one profiled step (every device call finished and timed).
   ocl::Profiler::reset();
@@ -150,6 +192,9 @@ void addBenchTrainCommand(CLI::App& bench) {
   cmd->add_option("--warmup", o->warmup, "Untimed steps first (kernel compiles)")
       ->capture_default_str();
   cmd->add_option("--device", o->device, "OpenCL device as platform:device (see simpli devices)");
+  cmd->add_option("--baseline", o->baseline,
+                  "Also time, step by step on the same samples, a baseline: 'composed' = the "
+                  "view aggregation as composed ops (the step before the fused kernels)");
   cmd->callback([o] { runBenchTrain(*o); });
 }
 

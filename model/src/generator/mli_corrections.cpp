@@ -61,9 +61,9 @@ Tensor composedAggregation(const Context& ctx, const network::TBlock& block,
   return ocl::concat(parts, 1);
 }
 
-// The fused aggregation gives no tokens to a stage hook and records no gradient.
+// The fused aggregation gives no tokens to a stage hook.
 bool useFusedAggregation(const Context& ctx, int64_t views) {
-  return ctx.options.fusedAggregation && !ctx.options.stageHook && !ocl::GradMode::enabled() &&
+  return ctx.options.fusedAggregation && !ctx.options.stageHook &&
          views <= network::ViewAttention::kMaxFusedViews;
 }
 

@@ -257,6 +257,7 @@ Trainer::SampleLoss Trainer::sampleLoss(Sampler& sampler) {
   generator::GeneratorOptions go;
   go.corrections = config_.corrections;
   go.keepIntermediates = true;
+  go.fusedAggregation = options_.fusedAggregation;
   go.raster.maxFragments = config_.maxFragments;
   const generator::GeneratorOutput out = generator_->forward(in, go);
   std::vector<ocl::Tensor> colours, opacities, depths;

@@ -1,13 +1,18 @@
-// ViewAttention::aggregate (the fused inference kernel) against the composed form written out
-// in double: ViewAttention::forward on the [samples | weight] tokens, then the weighted mean and
-// variance over the views, for view counts 1 .. 16, channel and hidden sizes other than the
-// official ones, views with zero weight, large logits, and float32 against float64.
+// ViewAttention::aggregate (the fused kernels) against the composed form written out in double:
+// ViewAttention::forward on the [samples | weight] tokens, then the weighted mean and variance
+// over the views, for view counts 1 .. 16, channel and hidden sizes other than the official
+// ones, views with zero weight, large logits, and float32 against float64. Its backward
+// against the composed form's autograd (every input and parameter) and central differences.
 #include "support/expect_error.h"
 
 #include "simpli/model/network/attention.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
+#include "simpli/ocl/ops_elementwise.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_reshape.h"
+#include "simpli/ocl/ops_shape.h"
 
 #include <gtest/gtest.h>
 
@@ -177,9 +182,162 @@ TEST(ViewAggregation, RefusesWhatItCannotDo) {
         },
         {"ViewAttention::aggregate", std::to_string(tooMany) + " views"});
   }
-  // The parameters require gradients and recording is on: training must use the composed form.
-  test::expectError([&] { va.aggregate(samples, weights); },
-                    {"ViewAttention::aggregate", "gradient", "forward only"});
+}
+
+// ---- gradients --------------------------------------------------------------------------
+
+// The composed form as autograd ops (generator/mli_corrections.cpp's composedAggregation).
+Tensor composedOps(const ViewAttention& va, const Tensor& samples, const Tensor& weights) {
+  const int64_t V = samples.size(0), S = samples.size(1), C = samples.size(2);
+  const int64_t h = samples.size(3), w = samples.size(4);
+  auto meanVar = [&](const Tensor& x) {
+    const Tensor mean = ocl::sum(ocl::mul(x, weights), 0);
+    const Tensor centred = ocl::sub(x, ocl::unsqueeze(mean, 0));
+    return std::vector<Tensor>{mean, ocl::sum(ocl::mul(ocl::square(centred), weights), 0)};
+  };
+  const Tensor tokens = ocl::reshape(
+      ocl::permute(ocl::concat({samples, weights}, 2), {1, 3, 4, 0, 2}), {S * h * w, V, C + 1});
+  const Tensor perView =
+      ocl::permute(ocl::reshape(va.forward(tokens), {S, h, w, V, C}), {3, 0, 4, 1, 2});
+  std::vector<Tensor> parts = meanVar(samples);
+  for (const Tensor& t : meanVar(perView))
+    parts.push_back(t);
+  return ocl::concat(parts, 1);
+}
+
+// The gradients of sum(out * probe) for the samples, the weights and every parameter.
+struct Gradients {
+  std::vector<std::vector<double>> values;
+  std::vector<std::string> names;
+};
+
+Gradients gradients(ParameterStore& store, const ViewAttention& va, const Case& k,
+                    const std::vector<double>& samples, const std::vector<double>& w,
+                    const std::vector<double>& probe, bool fused) {
+  store.zeroGrad();
+  Tensor x = Tensor::fromHost(samples, {k.V, k.S, k.C, k.h, k.w}, Dtype::F64);
+  Tensor wt = Tensor::fromHost(w, {k.V, k.S, 1, k.h, k.w}, Dtype::F64);
+  x.setRequiresGrad();
+  wt.setRequiresGrad();
+  const Tensor out = fused ? va.aggregate(x, wt) : composedOps(va, x, wt);
+  ocl::sumAll(ocl::mul(out, Tensor::fromHost(probe, out.shape(), Dtype::F64))).backward();
+  Gradients g;
+  g.values = {x.grad().toVector(), wt.grad().toVector()};
+  g.names = {"samples", "weights"};
+  for (const std::string& name : store.names()) {
+    g.values.push_back(store.get(name).grad().toVector());
+    g.names.push_back(name);
+  }
+  return g;
+}
+
+double maxAbs(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v)
+    m = std::max(m, std::abs(x));
+  return m;
+}
+
+void checkGradients(const Case& k) {
+  SCOPED_TRACE("V " + std::to_string(k.V) + ", S " + std::to_string(k.S) + ", C " +
+               std::to_string(k.C) + ", " + std::to_string(k.h) + "x" + std::to_string(k.w) +
+               ", logit scale " + std::to_string(k.logitScale));
+  PoisonScope poison;
+  ParameterStore store(Dtype::F64, 7);
+  const ViewAttention va(store, "a", k.C, k.hidden);
+  scaleProjections(store, k.logitScale);
+  const std::vector<double> samples =
+      Tensor::uniform({k.V, k.S, k.C, k.h, k.w}, -1, 1, 11, Dtype::F64).toVector();
+  const std::vector<double> w = viewWeights(k, 12);
+  const std::vector<double> probe =
+      Tensor::uniform({k.S, 4 * k.C, k.h, k.w}, -1, 1, 13, Dtype::F64).toVector();
+  const Gradients want = gradients(store, va, k, samples, w, probe, false);
+  const Gradients got = gradients(store, va, k, samples, w, probe, true);
+  ASSERT_EQ(got.values.size(), want.values.size());
+  for (std::size_t i = 0; i < want.values.size(); ++i) {
+    SCOPED_TRACE("gradient of " + want.names[i]);
+    ASSERT_EQ(got.values[i].size(), want.values[i].size());
+    const double scale = maxAbs(want.values[i]);
+    // Every input and parameter is reached, but for one view the softmax is constant: no
+    // gradient reaches the query and key projections (in either form).
+    const bool unreached =
+        k.V == 1 && (want.names[i] == "a.w_qs.weight" || want.names[i] == "a.w_ks.weight");
+    EXPECT_GT(scale, unreached ? -1.0 : 1e-3);
+    double err = 0;
+    for (std::size_t j = 0; j < want.values[i].size(); ++j) {
+      ASSERT_TRUE(std::isfinite(got.values[i][j])) << "element " << j;
+      err = std::max(err, std::abs(got.values[i][j] - want.values[i][j]));
+    }
+    EXPECT_LT(err, 1e-11 * std::max(1.0, scale));
+  }
+}
+
+TEST(ViewAggregation, FusedGradientsMatchComposedAutograd) {
+  checkGradients({4, 3, 6, 16, 5, 7, 1}); // 35 pixels: items of 16 pixels with a partial one
+  checkGradients({1, 2, 6, 16, 3, 4, 1}); // one view
+  checkGradients({3, 1, 3, 5, 6, 5, 1});  // other channel and hidden sizes
+  checkGradients({8, 1, 6, 16, 9, 8, 1}); // the official view count, 72 pixels
+  checkGradients({5, 2, 6, 16, 4, 4, 6}); // sharp softmax
+}
+
+// The fused backward against central differences of the fused forward, for samples, weights
+// and the attention's parameters (a few elements of each).
+TEST(ViewAggregation, FusedGradientsMatchFiniteDifferences) {
+  PoisonScope poison;
+  const Case k{3, 2, 6, 16, 4, 5, 1};
+  ParameterStore store(Dtype::F64, 5);
+  const ViewAttention va(store, "a", k.C, k.hidden);
+  scaleProjections(store, 1);
+  const std::vector<double> samples =
+      Tensor::uniform({k.V, k.S, k.C, k.h, k.w}, -1, 1, 21, Dtype::F64).toVector();
+  const std::vector<double> w = viewWeights(k, 22);
+  const std::vector<double> probe =
+      Tensor::uniform({k.S, 4 * k.C, k.h, k.w}, -1, 1, 23, Dtype::F64).toVector();
+  const Gradients g = gradients(store, va, k, samples, w, probe, true);
+  auto objective = [&](const std::vector<double>& x, const std::vector<double>& wt) {
+    ocl::NoGradGuard noGrad;
+    const std::vector<double> out =
+        va.aggregate(Tensor::fromHost(x, {k.V, k.S, k.C, k.h, k.w}, Dtype::F64),
+                     Tensor::fromHost(wt, {k.V, k.S, 1, k.h, k.w}, Dtype::F64))
+            .toVector();
+    double total = 0;
+    for (std::size_t i = 0; i < out.size(); ++i)
+      total += out[i] * probe[i];
+    return total;
+  };
+  const double eps = 1e-6;
+  auto check = [&](const std::string& what, double analytic, double plus, double minus) {
+    const double numeric = (plus - minus) / (2 * eps);
+    EXPECT_NEAR(analytic, numeric, 1e-6 * std::max(1.0, std::abs(numeric))) << what;
+  };
+  for (std::size_t i : {0ul, 17ul, 100ul, samples.size() - 1}) {
+    std::vector<double> p = samples, m = samples;
+    p[i] += eps;
+    m[i] -= eps;
+    check("samples " + std::to_string(i), g.values[0][i], objective(p, w), objective(m, w));
+  }
+  for (std::size_t i : {1ul, 20ul, w.size() - 2}) {
+    std::vector<double> p = w, m = w;
+    p[i] += eps;
+    m[i] -= eps;
+    check("weights " + std::to_string(i), g.values[1][i], objective(samples, p),
+          objective(samples, m));
+  }
+  for (std::size_t n = 0; n < store.names().size(); ++n) {
+    Tensor param = store.get(store.names()[n]);
+    const std::vector<double> base = param.toVector();
+    for (std::size_t i : {std::size_t(0), base.size() / 2, base.size() - 1}) {
+      std::vector<double> shifted = base;
+      shifted[i] = base[i] + eps;
+      param.copyFromHost(shifted);
+      const double plus = objective(samples, w);
+      shifted[i] = base[i] - eps;
+      param.copyFromHost(shifted);
+      const double minus = objective(samples, w);
+      param.copyFromHost(base);
+      check(store.names()[n] + " " + std::to_string(i), g.values[2 + n][i], plus, minus);
+    }
+  }
 }
 
 } // namespace

@@ -148,6 +148,42 @@ TEST(TrainTrainer, ResumeRepeatsTheUninterruptedRun) {
   fs::remove_all(b);
 }
 
+// The fused view aggregation (forward and backward kernels) trains as the composed ops do: in
+// float64, the same losses step by step and the same weights after three Adam steps.
+TEST(TrainTrainer, FusedAggregationTrainsLikeTheComposedOps) {
+  deterministicDevice();
+  TrainingConfig cfg = tinyConfig(3, 3);
+  cfg.dtype = ocl::Dtype::F64;
+  const fs::path a = tempRun("fused"), b = tempRun("composed");
+  std::vector<double> fused, composed;
+  for (const bool fusedAggregation : {true, false}) {
+    TrainerOptions o = options(fusedAggregation ? a : b);
+    o.fusedAggregation = fusedAggregation;
+    std::vector<double>& totals = fusedAggregation ? fused : composed;
+    o.onStep = [&](const StepReport& r) { totals.push_back(r.total); };
+    Trainer(&cfg, o).run();
+  }
+  ASSERT_EQ(fused.size(), 3u);
+  ASSERT_EQ(composed.size(), 3u);
+  for (size_t i = 0; i < 3; ++i)
+    EXPECT_NEAR(fused[i], composed[i], 1e-10 * std::abs(composed[i])) << "step " << i + 1;
+  network::SimpliNetwork na(cfg.network, cfg.dtype), nb(cfg.network, cfg.dtype);
+  na.parameters().load((a / "weights.safetensors").string());
+  nb.parameters().load((b / "weights.safetensors").string());
+  int attentionParameters = 0;
+  for (const std::string& n : na.parameters().names()) {
+    const std::vector<double> wa = na.parameters().get(n).toVector();
+    const std::vector<double> wb = nb.parameters().get(n).toVector();
+    ASSERT_EQ(wa.size(), wb.size()) << n;
+    for (size_t i = 0; i < wa.size(); ++i)
+      ASSERT_NEAR(wa[i], wb[i], 1e-8) << n << " element " << i;
+    attentionParameters += n.find("attention_agg") != std::string::npos;
+  }
+  EXPECT_GT(attentionParameters, 0); // the view attention is part of the network trained
+  fs::remove_all(a);
+  fs::remove_all(b);
+}
+
 // ema_decay d: after steps with weights w1, w2 the average is d^2 w0 + d (1 - d) w1 + (1 - d) w2,
 // in float64, written beside the weights and loadable as weights.
 TEST(TrainTrainer, MovingAverageOfTheWeights) {

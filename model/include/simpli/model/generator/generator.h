@@ -49,9 +49,9 @@ struct GeneratorOptions {
   raster::RasterSettings raster;
   /// Empty = the OpenCL rasterizer.
   SourceRenderer sourceRenderer;
-  /// Without gradients, aggregate the views of a correction level with attention in one fused
+  /// Aggregate the views of a correction level with attention in one fused
   /// kernel (ViewAttention::aggregate) instead of the composed ops: same values to rounding,
-  /// about 10x less time at 512x384, V = 8. Not used when gradients are recorded, when a
+  /// about 10x less time at 512x384, V = 8; in training its fused backward too. Not used when a
   /// stageHook wants the attention's tokens, or above ViewAttention::kMaxFusedViews views.
   bool fusedAggregation = true;
   /// Test / debugging aid: when set, receives named intermediate tensors as they are computed

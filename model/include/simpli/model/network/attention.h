@@ -32,7 +32,7 @@ public:
   int headDim() const { return headDim_; }
 
 private:
-  friend class ViewAttention; // its fused inference path reads the weights directly
+  friend class ViewAttention; // its fused path reads the weights directly
   int in_ = 0, heads_ = 1, headDim_ = 0, out_ = 0;
   ocl::Tensor wq_, wk_, wv_, fc_, lnWeight_, lnBias_;
 };
@@ -49,8 +49,9 @@ public:
   /// tokens [N, V, Cin + 1] -> [N, V, Cin].
   ocl::Tensor forward(const ocl::Tensor& tokens, ocl::Tensor* attention = nullptr) const;
 
-  /// The whole aggregation of an MLI correction level in one kernel, for inference (no
-  /// gradient; fails when one is needed): samples [V, S, Cin, h, w] and their view weights
+  /// The whole aggregation of an MLI correction level in one kernel (and one for its
+  /// gradients, to the samples, weights and all attention parameters): samples
+  /// [V, S, Cin, h, w] and their view weights
   /// [V, S, 1, h, w] -> [S, 4 Cin, h, w] = the weighted mean and variance over the views of
   /// the samples, then of forward([samples | weight]) (view_aggregation.cpp).
   ocl::Tensor aggregate(const ocl::Tensor& samples, const ocl::Tensor& weights) const;

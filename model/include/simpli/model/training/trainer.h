@@ -90,6 +90,10 @@ struct TrainerOptions {
   parallel::Communicator* communicator = nullptr;
   /// Samples each rank draws and averages per step (gradient accumulation), >= 1.
   int samplesPerRank = 1;
+  /// The generator's fused view aggregation, forward and backward
+  /// (GeneratorOptions::fusedAggregation); false = the composed ops, the baseline of
+  /// `simpli bench train --baseline composed`.
+  bool fusedAggregation = true;
 };
 
 class Trainer {
