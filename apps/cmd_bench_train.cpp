@@ -34,6 +34,7 @@ struct BenchTrainOptions {
   int steps = 5, warmup = 1;
   std::string device;
   std::string baseline; ///< "composed": also time the composed view aggregation
+  int kernels = 20;     ///< rows of the per-kernel table
 };
 
 std::string loadAverage() {
@@ -94,7 +95,8 @@ void runBenchTrain(const BenchTrainOptions& o) {
   if (o.warmup < 0)
     fail("--warmup ", o.warmup, ": must be >= 0");
   if (!o.baseline.empty() && o.baseline != "composed")
-    fail("--baseline '", o.baseline, "': the one baseline is 'composed' (the view aggregation as "
+    fail("--baseline '", o.baseline,
+         "': the one baseline is 'composed' (the view aggregation as "
          "composed ops instead of the fused kernels)");
   if (!o.device.empty()) {
     const auto [p, d] = ocl::Device::parseSelector(o.device, "--device");
@@ -144,8 +146,8 @@ void runBenchTrain(const BenchTrainOptions& o) {
     std::printf("\n");
   }
   const Summary step = summarise(ms);
-  std::printf("train step: %.0f +- %.0f ms (min %.0f) over %zu steps; load average %s\n",
-              step.mean, step.std, step.min, ms.size(), loadAverage().c_str());
+  std::printf("train step: %.0f +- %.0f ms (min %.0f) over %zu steps; load average %s\n", step.mean,
+              step.std, step.min, ms.size(), loadAverage().c_str());
   if (baseline) {
     const Summary base = summarise(baseMs);
     std::printf("baseline (%s aggregation): %.0f +- %.0f ms (min %.0f); ratio of the means %.2f "
@@ -174,7 +176,7 @@ void runBenchTrain(const BenchTrainOptions& o) {
   std::printf("%-28s %10s %7s\n", "area", "ms", "%");
   for (const auto& [name, v] : byArea)
     std::printf("%-28s %10.1f %6.1f\n", name.c_str(), v, 100 * v / device);
-  std::printf("%s", ocl::Profiler::report(20).c_str());
+  std::printf("%s", ocl::Profiler::report(o.kernels).c_str());
 }
 
 } // namespace
@@ -195,6 +197,9 @@ void addBenchTrainCommand(CLI::App& bench) {
   cmd->add_option("--baseline", o->baseline,
                   "Also time, step by step on the same samples, a baseline: 'composed' = the "
                   "view aggregation as composed ops (the step before the fused kernels)");
+  cmd->add_option("--kernels", o->kernels, "Rows of the profiled step's per-kernel table")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->callback([o] { runBenchTrain(*o); });
 }
 

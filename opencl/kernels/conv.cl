@@ -70,12 +70,15 @@ __kernel void col2im3d(__global const REAL* col, const int C, const int D, const
                        const int SH, const int SW, const int PD, const int PH, const int PW,
                        const int Do, const int Ho, const int Wo, const int row0, const int rows,
                        const int replicate, const int d0, const int dCount, const int h0,
-                       const int hCount, __global REAL* dx, const int dxOff) {
+                       const int hCount, __global REAL* dx, const int dxOff, const int clear) {
   const int dh = get_global_id(0), c = get_global_id(1);
   if (dh >= dCount * hCount || c >= C) return;
   const int d = d0 + dh / hCount, h = h0 + dh % hCount;
   const int p0 = row0 * Wo, p1 = (row0 + rows) * Wo, chunk = rows * Wo;
   __global REAL* out = dx + dxOff + ((c * D + d) * H + h) * W;
+  if (clear) // the one block of a batch item: this item owns the row, no zero fill before
+    for (int x = 0; x < W; ++x)
+      out[x] = 0;
   for (int i = 0; i < KD; ++i) {
     const int2 rd = taps_reading(d, i, SD, PD, D, Do, replicate);
     for (int od = rd.x; od <= rd.y; ++od) {

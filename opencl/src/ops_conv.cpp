@@ -7,6 +7,7 @@
 #include "simpli/ocl/ops_reduce.h"
 
 #include <algorithm>
+#include <array>
 #include <sstream>
 #include <tuple>
 #include <utility>
@@ -142,14 +143,32 @@ std::pair<int64_t, int64_t> inputSpan(int64_t o0, int64_t o1, int64_t s, int64_t
           std::clamp<int64_t>(o1 * s - p + k - 1, 0, n - 1)};
 }
 
-void col2im(const Geometry& g, const Tensor& col, int64_t n, int64_t row0, int64_t rows,
-            const Tensor& dx) {
+// The input rows (d, h) the column block of output rows row0 .. row0 + rows reads: d0, dCount,
+// h0, hCount.
+std::array<int64_t, 4> col2imSpan(const Geometry& g, int64_t row0, int64_t rows) {
   const int64_t od0 = row0 / g.Ho, od1 = (row0 + rows - 1) / g.Ho;
   const auto [d0, d1] = inputSpan(od0, od1, g.SD, g.PD, g.KD, g.D);
   int64_t h0 = 0, h1 = g.H - 1;
   if (od0 == od1)
     std::tie(h0, h1) = inputSpan(row0 % g.Ho, (row0 + rows - 1) % g.Ho, g.SH, g.PH, g.KH, g.H);
-  const int64_t dCount = d1 - d0 + 1, hCount = h1 - h0 + 1;
+  return {d0, d1 - d0 + 1, h0, h1 - h0 + 1};
+}
+
+// True when one column block holds all output rows and reads every input row: col2im then
+// writes (clears, then accumulates) every element of dx itself, with no zero fill before.
+bool col2imCoversInput(const Geometry& g, Dtype dtype) {
+  const int64_t totalRows = g.Do * g.Ho;
+  if (rowsPerBlock(g, dtype) < totalRows)
+    return false;
+  const auto [d0, dCount, h0, hCount] = col2imSpan(g, 0, totalRows);
+  return d0 == 0 && dCount == g.D && h0 == 0 && hCount == g.H;
+}
+
+// Accumulates the column block into dx; with `clear` (col2imCoversInput) its rows are zeroed
+// first.
+void col2im(const Geometry& g, const Tensor& col, int64_t n, int64_t row0, int64_t rows,
+            const Tensor& dx, bool clear) {
+  const auto [d0, dCount, h0, hCount] = col2imSpan(g, row0, rows);
   Launch launch("conv", "col2im3d", col.dtype());
   geometryArgs(launch.arg(col), g)
       .arg(static_cast<int>(g.Do))
@@ -164,6 +183,7 @@ void col2im(const Geometry& g, const Tensor& col, int64_t n, int64_t row0, int64
       .arg(static_cast<int>(hCount))
       .arg(dx)
       .arg(static_cast<int>(n * g.C * g.inP()))
+      .arg(clear ? 1 : 0)
       .run2(dCount * hCount, g.C, 16, 4);
 }
 
@@ -239,8 +259,11 @@ std::vector<Tensor> convBackward(const char* op, const Geometry& g, const Tensor
     return {gx, gw, gb};
   if (needW)
     gw = Tensor::zeros(w.shape(), dtype);
+  // Pointwise convolutions write gx with beta = 0; col2im clears it itself when it covers it.
+  const bool col2imClears = !g.pointwise() && col2imCoversInput(g, dtype);
   if (needX)
-    gx = Tensor::zeros(x.shape(), dtype);
+    gx = g.pointwise() || col2imClears ? Tensor::empty(x.shape(), dtype)
+                                       : Tensor::zeros(x.shape(), dtype);
   const blas::Operand weightT{w.buffer(), 0, sz(CK), true};
   if (g.pointwise()) {
     forEachBlock(g, dtype, [&](int64_t n, int64_t, int64_t, int64_t, int64_t) {
@@ -265,7 +288,7 @@ std::vector<Tensor> convBackward(const char* op, const Geometry& g, const Tensor
     }
     if (needX) { // dcol = w^T gy_block, scattered back (as a gather) into gx
       blas::gemm(op, dtype, CK, chunk, g.O, 1.0, weightT, gyn, 0.0, col.buffer(), 0, sz(chunk));
-      col2im(g, col, n, row0, rows, gx);
+      col2im(g, col, n, row0, rows, gx, col2imClears);
     }
   });
   return {gx, gw, gb};

@@ -119,13 +119,15 @@ ocl::Tensor ViewAttention::aggregate(const ocl::Tensor& samples, const ocl::Tens
       .real(1e-6)
       .arg(out)
       .run2(hw, S, 64, 1);
-  const std::vector<ocl::Tensor> inputs{samples, weights, scoreMap, valueMap, a.lnWeight_, a.lnBias_};
+  const std::vector<ocl::Tensor> inputs{samples,  weights,     scoreMap,
+                                        valueMap, a.lnWeight_, a.lnBias_};
   if (!ocl::needsGrad(inputs))
     return out;
-  FusedInputs saved{samples.detach(), weights.detach(), scoreMap.detach(), valueMap.detach(),
-                    a.lnWeight_.detach(), a.lnBias_.detach()};
-  return ocl::record("viewAttentionAggregate", out, inputs,
-                     [saved, options](const ocl::Tensor& g) { return fusedBackward(saved, g, options); });
+  FusedInputs saved{samples.detach(),  weights.detach(),     scoreMap.detach(),
+                    valueMap.detach(), a.lnWeight_.detach(), a.lnBias_.detach()};
+  return ocl::record("viewAttentionAggregate", out, inputs, [saved, options](const ocl::Tensor& g) {
+    return fusedBackward(saved, g, options);
+  });
 }
 
 } // namespace simpli::network
