@@ -157,16 +157,18 @@ void printRow(const Row& r) {
   std::fflush(stdout);
 }
 
-Row benchGemm(int64_t m, int64_t n, int64_t k, int warmup, int repeat) {
+// C = A B, or with transposedB C = A B^T (B stored [n, k]: a weight gradient, gy x col^T).
+Row benchGemm(int64_t m, int64_t n, int64_t k, int warmup, int repeat, bool transposedB = false) {
   Row row;
-  row.name =
-      "gemm " + std::to_string(m) + "x" + std::to_string(n) + "x" + std::to_string(k) + " (MxNxK)";
+  row.name = std::string(transposedB ? "gemm NT " : "gemm ") + std::to_string(m) + "x" +
+             std::to_string(n) + "x" + std::to_string(k) + " (MxNxK)";
   row.flops = 2.0 * m * n * k;
-  auto a = ocl::Tensor::uniform({m, k}, -1, 1, 11), b = ocl::Tensor::uniform({k, n}, -1, 1, 12);
+  auto a = ocl::Tensor::uniform({m, k}, -1, 1, 11);
+  auto b = ocl::Tensor::uniform(transposedB ? ocl::Shape{n, k} : ocl::Shape{k, n}, -1, 1, 12);
   ocl::Tensor c;
   row.deviceMs = timeIt(
                      [&] {
-                       c = ocl::matmul(a, b);
+                       c = ocl::matmul(a, b, false, transposedB);
                        ocl::Device::current().finish();
                      },
                      warmup, repeat)
@@ -175,10 +177,12 @@ Row benchGemm(int64_t m, int64_t n, int64_t k, int warmup, int repeat) {
   std::vector<float> hc(static_cast<std::size_t>(m * n));
   row.blasMs = timeIt(
                    [&] {
-                     cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, static_cast<int>(m),
+                     cblas_sgemm(CblasRowMajor, CblasNoTrans,
+                                 transposedB ? CblasTrans : CblasNoTrans, static_cast<int>(m),
                                  static_cast<int>(n), static_cast<int>(k), 1.0f, ha.data(),
-                                 static_cast<int>(k), hb.data(), static_cast<int>(n), 0.0f,
-                                 hc.data(), static_cast<int>(n));
+                                 static_cast<int>(k), hb.data(),
+                                 static_cast<int>(transposedB ? k : n), 0.0f, hc.data(),
+                                 static_cast<int>(n));
                    },
                    warmup, repeat)
                    .medianMs;
@@ -262,6 +266,7 @@ void runOps(int repeat, bool quick, const std::string& selector) {
   if (quick) {
     printRow(benchGemm(128, 128, 128, warmup, repeat));
     printRow(benchGemm(256, 512, 32, warmup, repeat));
+    printRow(benchGemm(8, 72, 4096, warmup, repeat, true));
     printRow(benchConv({8, 1, 24, 32, 8, 3, false, false}, warmup, repeat, threads));
     printRow(benchConv({4, 5, 12, 16, 4, 3, true, true}, warmup, repeat, threads));
   } else {
@@ -278,6 +283,9 @@ void runOps(int repeat, bool quick, const std::string& selector) {
     // layer 7 -> 16 over 4 layers of 128x192.
     printRow(benchGemm(16, 24576, 144, warmup, repeat));
     printRow(benchGemm(98304, 16, 7, warmup, repeat));
+    // The weight gradient of a 16-channel 3x3 conv at 256x192 (gy [16, P] x col [144, P]^T):
+    // the training step's largest GEMM kind (split along k, gemm_splitk.cl).
+    printRow(benchGemm(16, 144, 49152, warmup, repeat, true));
     printRow(benchConv({16, 1, 128, 192, 16, 3, false, false}, warmup, repeat, threads));
   }
 }

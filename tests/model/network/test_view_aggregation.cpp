@@ -238,6 +238,17 @@ double maxAbs(const std::vector<double>& v) {
   return m;
 }
 
+// Samples, view weights and the probe that weighs the outputs (the objective sum(out * probe)).
+struct GradientInputs {
+  std::vector<double> samples, weights, probe;
+};
+
+GradientInputs randomInputs(const Case& k, uint64_t seed) {
+  return {Tensor::uniform({k.V, k.S, k.C, k.h, k.w}, -1, 1, seed, Dtype::F64).toVector(),
+          viewWeights(k, seed + 1),
+          Tensor::uniform({k.S, 4 * k.C, k.h, k.w}, -1, 1, seed + 2, Dtype::F64).toVector()};
+}
+
 void checkGradients(const Case& k) {
   SCOPED_TRACE("V " + std::to_string(k.V) + ", S " + std::to_string(k.S) + ", C " +
                std::to_string(k.C) + ", " + std::to_string(k.h) + "x" + std::to_string(k.w) +
@@ -246,11 +257,8 @@ void checkGradients(const Case& k) {
   ParameterStore store(Dtype::F64, 7);
   const ViewAttention va(store, "a", k.C, k.hidden);
   scaleProjections(store, k.logitScale);
-  const std::vector<double> samples =
-      Tensor::uniform({k.V, k.S, k.C, k.h, k.w}, -1, 1, 11, Dtype::F64).toVector();
-  const std::vector<double> w = viewWeights(k, 12);
-  const std::vector<double> probe =
-      Tensor::uniform({k.S, 4 * k.C, k.h, k.w}, -1, 1, 13, Dtype::F64).toVector();
+  const GradientInputs in = randomInputs(k, 11);
+  const std::vector<double>&samples = in.samples, &w = in.weights, &probe = in.probe;
   const Gradients want = gradients(store, va, k, samples, w, probe, false);
   const Gradients got = gradients(store, va, k, samples, w, probe, true);
   ASSERT_EQ(got.values.size(), want.values.size());
@@ -288,11 +296,8 @@ TEST(ViewAggregation, FusedGradientsMatchFiniteDifferences) {
   ParameterStore store(Dtype::F64, 5);
   const ViewAttention va(store, "a", k.C, k.hidden);
   scaleProjections(store, 1);
-  const std::vector<double> samples =
-      Tensor::uniform({k.V, k.S, k.C, k.h, k.w}, -1, 1, 21, Dtype::F64).toVector();
-  const std::vector<double> w = viewWeights(k, 22);
-  const std::vector<double> probe =
-      Tensor::uniform({k.S, 4 * k.C, k.h, k.w}, -1, 1, 23, Dtype::F64).toVector();
+  const GradientInputs in = randomInputs(k, 21);
+  const std::vector<double>&samples = in.samples, &w = in.weights, &probe = in.probe;
   const Gradients g = gradients(store, va, k, samples, w, probe, true);
   auto objective = [&](const std::vector<double>& x, const std::vector<double>& wt) {
     ocl::NoGradGuard noGrad;
