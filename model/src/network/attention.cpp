@@ -81,7 +81,7 @@ ocl::Tensor MultiHeadAttention::forward(const ocl::Tensor& queries, const ocl::T
   const ocl::Tensor joined = heads_ == 1 ? outputs[0] : ocl::concat(outputs, 2);
   if (attention)
     *attention = heads_ == 1 ? maps[0] : ocl::concat(maps, 1);
-  return ocl::layerNorm(ocl::linear(joined, fc_), lnWeight_, lnBias_, 1e-6);
+  return ocl::layerNorm(ocl::linear(joined, fc_), lnWeight_, lnBias_, kLayerNormEps);
 }
 
 ViewAttention::ViewAttention(ParameterStore& store, const std::string& prefix, int sourceChannels,

@@ -53,7 +53,7 @@ std::vector<ocl::Tensor> fusedBackward(const FusedInputs& in, const ocl::Tensor&
       .arg(in.valueMap)
       .arg(in.lnWeight)
       .arg(in.lnBias)
-      .real(1e-6)
+      .real(MultiHeadAttention::kLayerNormEps)
       .arg(gradOut)
       .arg(gradSamples)
       .arg(gradWeights)
@@ -62,9 +62,7 @@ std::vector<ocl::Tensor> fusedBackward(const FusedInputs& in, const ocl::Tensor&
   const ocl::Tensor params = ocl::sum(partial, 0); // [nparam]
   int64_t at = 0;
   auto take = [&](const ocl::Shape& shape) {
-    int64_t count = 1;
-    for (int64_t d : shape)
-      count *= d;
+    const int64_t count = ocl::numelOf(shape);
     const ocl::Tensor part = ocl::reshape(ocl::slice(params, 0, at, at + count), shape);
     at += count;
     return part;
@@ -116,7 +114,7 @@ ocl::Tensor ViewAttention::aggregate(const ocl::Tensor& samples, const ocl::Tens
       .arg(valueMap)
       .arg(a.lnWeight_)
       .arg(a.lnBias_)
-      .real(1e-6)
+      .real(MultiHeadAttention::kLayerNormEps)
       .arg(out)
       .run2(hw, S, 64, 1);
   const std::vector<ocl::Tensor> inputs{samples,  weights,     scoreMap,

@@ -26,6 +26,9 @@ public:
   ocl::Tensor forward(const ocl::Tensor& queries, const ocl::Tensor& keysValues,
                       ocl::Tensor* attention = nullptr) const;
 
+  /// The output LayerNorm's epsilon (the reference's), shared with the fused aggregation.
+  static constexpr double kLayerNormEps = 1e-6;
+
   int inChannels() const { return in_; }
   int outChannels() const { return out_; }
   int heads() const { return heads_; }
