@@ -150,8 +150,9 @@ int runTrain(const TrainCliOptions& o) {
     if (const auto s = monitor.update(running->network(), step, force)) {
       char line[160];
       std::snprintf(line, sizeof line,
-                    "validation at step %lld: %.2f dB / SSIM %.3f (nearest view %.2f dB)",
-                    static_cast<long long>(step), s->psnr, s->ssim, s->nearestPsnr);
+                    "validation at step %lld: %.2f dB / SSIM %.3f (nearest view %.2f dB)%s",
+                    static_cast<long long>(step), s->psnr, s->ssim, s->nearestPsnr,
+                    s->best ? ", the best so far: kept in best.safetensors" : "");
       t.message(line);
     }
   };

@@ -2,7 +2,8 @@
 # The long training run of issue 10, resumable across sessions and machines:
 #   bash scripts/train-long.sh RUN_DIR [CONFIG]      (default config: tiny-world)
 # SIMPLI_VALIDATE=SCENE scores the network on that scene at checkpoints (RUN_DIR/out/val.csv,
-# validation/, progress.png; every SIMPLI_VALIDATE_EVERY steps, default 100);
+# validation/, progress.png; every SIMPLI_VALIDATE_EVERY steps, default 100) and keeps the
+# weights of the best score in RUN_DIR/out/best.safetensors (score them with `simpli eval`);
 # SIMPLI_UPDATE_BINARY=1 replaces the run's copy of the binary with the tree's.
 # SIMPLI_TRAIN_ARGS="--size 128x96 ..." adds options to `simpli train`; they are kept in
 # RUN_DIR/bin/args on the first launch and reused when the run resumes.

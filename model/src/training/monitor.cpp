@@ -2,6 +2,7 @@
 #include "simpli/model/training/monitor.h"
 
 #include "simpli/error.h"
+#include "simpli/model/io/safetensors.h"
 #include "simpli/model/metrics/comparison_grid.h"
 #include "simpli/model/metrics/line_plot.h"
 #include "simpli/model/training/eval.h"
@@ -39,6 +40,33 @@ std::vector<double> movingAverage(const std::vector<double>& v, size_t window) {
   return out;
 }
 
+// The score of the weights in best.safetensors: the val.csv row of their step (none when the
+// file is missing, unreadable or of a step the kept rows do not have, e.g. after a resume from
+// an earlier checkpoint; the next validation then becomes the best).
+std::unique_ptr<ValidationScore> keptBest(const std::string& runDir,
+                                          const std::vector<std::vector<double>>& rows) {
+  const std::string path = TrainingMonitor::bestWeightsPath(runDir);
+  if (!fs::exists(path))
+    return nullptr;
+  int64_t step = -1;
+  try {
+    const io::SafeTensorsReader reader(path);
+    const std::map<std::string, std::string> meta = reader.metadata();
+    const auto it = meta.find("step");
+    if (it != meta.end())
+      step = std::stoll(it->second);
+  } catch (const std::exception&) {
+    return nullptr; // a damaged file: replaced by the next validation
+  }
+  for (const std::vector<double>& r : rows)
+    if (r.size() >= 5 && static_cast<int64_t>(r[0]) == step) {
+      auto b = std::make_unique<ValidationScore>();
+      *b = {step, r[1], r[2], r[3], r[4], true};
+      return b;
+    }
+  return nullptr;
+}
+
 int columnIndex(const std::vector<std::string>& header, const std::string& name) {
   for (size_t i = 0; i < header.size(); ++i)
     if (header[i] == name)
@@ -71,10 +99,18 @@ void TrainingMonitor::begin(int64_t resumeStep) {
   log_ = std::make_unique<TrainLog>(path, valColumns(), resumeStep);
   // The schedule counts from the last validation kept (a run stopped between two validations
   // resumes on the same schedule); with none, the first checkpoint validates.
-  if (resumeStep >= 0)
-    for (const std::vector<double>& row : TrainLog::read(path))
-      if (!row.empty())
-        lastValidated_ = static_cast<int64_t>(row[0]);
+  best_.reset();
+  if (resumeStep < 0)
+    return;
+  const std::vector<std::vector<double>> rows = TrainLog::read(path);
+  for (const std::vector<double>& row : rows)
+    if (!row.empty())
+      lastValidated_ = static_cast<int64_t>(row[0]);
+  best_ = keptBest(runDir_, rows);
+}
+
+std::string TrainingMonitor::bestWeightsPath(const std::string& runDir) {
+  return (fs::path(runDir) / "best.safetensors").string();
 }
 
 TrainingMonitor::~TrainingMonitor() = default;
@@ -105,6 +141,14 @@ std::unique_ptr<ValidationScore> TrainingMonitor::update(network::SimpliNetwork&
     std::snprintf(name, sizeof name, "step_%08lld.png", static_cast<long long>(step));
     io::writeImagePng(grid, (dir / name).string());
     lastValidated_ = step;
+    if (!best_ || score->psnr > best_->psnr) {
+      network.parameters().save(bestWeightsPath(runDir_),
+                                {{"format", "simpli-weights"},
+                                 {"step", std::to_string(step)},
+                                 {"network_config", network::toJson(network.config())}});
+      score->best = true;
+      best_ = std::make_unique<ValidationScore>(*score);
+    }
   }
   drawProgress(runDir_);
   return score;

@@ -4,6 +4,7 @@
 #include "support/temp_dir.h"
 
 #include "simpli/model/io/image.h"
+#include "simpli/model/io/safetensors.h"
 #include "simpli/model/network/network.h"
 #include "simpli/model/training/config.h"
 #include "simpli/model/training/log.h"
@@ -21,10 +22,10 @@ using simpli::test::TempDir;
 
 const std::string kScene = std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic/scene_00";
 
-network::SimpliNetwork tinyNetwork() {
+network::SimpliNetwork tinyNetwork(uint64_t seed = 5) {
   const TrainingConfig c =
       parseTrainingConfig(R"({"network": "tiny.json"})", "tiny-train", SIMPLI_NETWORK_CONFIG_DIR);
-  return network::SimpliNetwork(c.network, c.dtype, 5);
+  return network::SimpliNetwork(c.network, c.dtype, seed);
 }
 
 ValidationOptions smallValidation() {
@@ -119,6 +120,62 @@ TEST(TrainingMonitor, ResumeBetweenValidationsKeepsTheSchedule) {
   EXPECT_EQ(rows[1][0], 4);
 }
 
+int64_t bestStep(const TempDir& run) {
+  return std::stoll(
+      io::SafeTensorsReader(TrainingMonitor::bestWeightsPath(run.str())).metadata().at("step"));
+}
+
+// best.safetensors follows the highest PSNR, not the last validation; a resumed run knows the
+// best score it kept and replaces it only with a better one. Two initialisations score
+// differently; which one is better does not matter.
+TEST(TrainingMonitor, KeepsTheWeightsOfTheBestValidation) {
+  TempDir run;
+  writeTrainLog(run, 10);
+  network::SimpliNetwork a = tinyNetwork(5), b = tinyNetwork(7);
+  const std::string key = a.parameters().names().front();
+  double psnrA = 0, psnrB = 0;
+  {
+    TrainingMonitor m(run.str(), smallValidation());
+    m.begin(-1);
+    const auto first = m.update(a, 2);
+    ASSERT_TRUE(first);
+    EXPECT_TRUE(first->best); // the first validation is the best so far
+    EXPECT_EQ(bestStep(run), 2);
+    const auto second = m.update(b, 4);
+    ASSERT_TRUE(second);
+    psnrA = first->psnr;
+    psnrB = second->psnr;
+    ASSERT_NE(psnrA, psnrB);
+    EXPECT_EQ(second->best, psnrB > psnrA);
+    const auto third = m.update(a, 6);
+    ASSERT_TRUE(third);
+    EXPECT_FALSE(third->best) << "equal to the best is not better";
+  }
+  network::SimpliNetwork& better = psnrB > psnrA ? b : a;
+  network::SimpliNetwork& worse = psnrB > psnrA ? a : b;
+  const int64_t expectedStep = psnrB > psnrA ? 4 : 2;
+  EXPECT_EQ(bestStep(run), expectedStep);
+  {
+    const io::SafeTensorsReader kept(TrainingMonitor::bestWeightsPath(run.str()));
+    const std::vector<float> stored = kept.readF32(key).data;
+    const std::vector<double> expected = better.parameters().get(key).toVector();
+    ASSERT_EQ(stored.size(), expected.size());
+    for (size_t i = 0; i < stored.size(); ++i)
+      ASSERT_EQ(stored[i], float(expected[i])) << i;
+    EXPECT_FALSE(kept.metadata().at("network_config").empty());
+  }
+  // Resumed at step 6: the kept best is known, so neither network replaces it.
+  TrainingMonitor resumed(run.str(), smallValidation());
+  resumed.begin(6);
+  const auto again = resumed.update(worse, 8);
+  ASSERT_TRUE(again);
+  EXPECT_FALSE(again->best);
+  const auto same = resumed.update(better, 10);
+  ASSERT_TRUE(same);
+  EXPECT_FALSE(same->best);
+  EXPECT_EQ(bestStep(run), expectedStep);
+}
+
 TEST(TrainingMonitor, WithoutValidationDrawsTheLossCurveOnly) {
   TempDir run;
   writeTrainLog(run, 3);
@@ -127,6 +184,7 @@ TEST(TrainingMonitor, WithoutValidationDrawsTheLossCurveOnly) {
   m.begin(-1);
   EXPECT_FALSE(m.update(net, 3));
   EXPECT_FALSE(fs::exists(run / "val.csv"));
+  EXPECT_FALSE(fs::exists(TrainingMonitor::bestWeightsPath(run.str())));
   const io::Image progress = io::readImage(run.str("progress.png"));
   EXPECT_EQ(progress.height, 360);
 }

@@ -3,7 +3,9 @@
 // step's total loss and its moving average) and, with a validation scene, the validation PSNR
 // against the nearest-source-view baseline; RUN/val.csv with the scores; and
 // RUN/validation/step_NNNNNNNN.png, ground truth | render | error x4 | nearest source view of
-// the first validation view. Validation uses the protocol of training/eval.h on fixed samples
+// the first validation view; RUN/best.safetensors, the weights of the best validation so far
+// (a run's validation score peaks and drifts, and checkpoints keep only the last steps).
+// Validation uses the protocol of training/eval.h on fixed samples
 // (the same sources and targets every time, so the curve shows the network, not the draw).
 #include "simpli/model/network/network.h"
 #include "simpli/model/training/data.h"
@@ -26,6 +28,7 @@ struct ValidationOptions {
 struct ValidationScore {
   int64_t step = 0;
   double psnr = 0, ssim = 0, nearestPsnr = 0, nearestSsim = 0;
+  bool best = false; ///< the highest PSNR of the run so far: its weights are in bestWeightsPath()
 };
 
 class TrainingMonitor {
@@ -36,7 +39,7 @@ public:
   ~TrainingMonitor();
 
   /// Once the run folder exists: opens val.csv; a resumed run (resumeStep >= 0) keeps it up to
-  /// that step.
+  /// that step, and knows its best score from best.safetensors' step and that step's row.
   void begin(int64_t resumeStep);
 
   /// Called after the checkpoint of `step`: validates when `every` steps have passed since the
@@ -48,6 +51,10 @@ public:
   int64_t lastValidated() const { return lastValidated_; }
   bool validating() const { return log_ != nullptr; }
 
+  /// RUN/best.safetensors: weights with "step" and "network_config" metadata, like a
+  /// checkpoint's, so that `simpli eval --weights` and `simpli infer --weights` take them.
+  static std::string bestWeightsPath(const std::string& runDir);
+
   /// Writes RUN/progress.png from RUN/log.csv and RUN/val.csv (also usable on a finished run).
   static void drawProgress(const std::string& runDir);
 
@@ -57,6 +64,7 @@ private:
   std::unique_ptr<TrainingData> data_;
   std::unique_ptr<TrainLog> log_;
   int64_t lastValidated_ = -1;
+  std::unique_ptr<ValidationScore> best_;
 };
 
 } // namespace simpli::training
