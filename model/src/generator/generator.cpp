@@ -172,6 +172,8 @@ GeneratorOutput Generator::forward(const GeneratorInput& input,
     // The RGB-like channels of the MPI render (after the descriptors), for intermediate loss 0.
     const int64_t d = cfg.featuresExtractor.descriptors;
     output.intermediateSourceRenders.push_back(ocl::slice(mpi.rendered, 1, d, d + 3));
+    output.level0SourceWeights = mpi.renderWeights;
+    output.planeDepths = ctx.planeDepths;
   }
   const Level1Surfaces level1 = planesToLayers(ctx, mpi);
 

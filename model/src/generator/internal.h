@@ -64,10 +64,11 @@ struct Context {
 
 /// Steps 1-4: the corrected MPI.
 struct MpiLevels {
-  ocl::Tensor features; ///< [V, Cf, Hf, Wf] feature-extractor output
-  ocl::Tensor fmpi0;    ///< [P, C0 + 1, h0, w0] level-0 features (tanh quirk applied) + alpha
-  ocl::Tensor rendered; ///< [V, C0, Hf, Wf] fMPI0 composited into every source
-  ocl::Tensor fmpi1;    ///< [P, Cs, h1, w1] corrected MPI features
+  ocl::Tensor features;      ///< [V, Cf, Hf, Wf] feature-extractor output
+  ocl::Tensor fmpi0;         ///< [P, C0 + 1, h0, w0] level-0 features (tanh quirk applied) + alpha
+  ocl::Tensor rendered;      ///< [V, C0, Hf, Wf] fMPI0 composited into every source
+  ocl::Tensor renderWeights; ///< [V, P, 1, Hf, Wf] its per-plane compositing weights
+  ocl::Tensor fmpi1;         ///< [P, Cs, h1, w1] corrected MPI features
 };
 MpiLevels runMpiLevels(const Context& ctx);
 

@@ -81,6 +81,7 @@ MpiLevels runMpiLevels(const Context& ctx) {
       geometry::renderMpi(out.fmpi0, ctx.planeDepths, ctx.input.reference, ctx.input.sources,
                           static_cast<int>(Hf), static_cast<int>(Wf));
   out.rendered = rendering.color;
+  out.renderWeights = rendering.weights;
   ctx.hook("composer.mpi_render_lvl1.out.color", rendering.color);
   ctx.hook("composer.mpi_render_lvl1.out.opacity", rendering.opacity);
   ctx.hook("composer.mpi_render_lvl1.out.weight", rendering.weights);

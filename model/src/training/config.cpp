@@ -89,7 +89,8 @@ const std::vector<std::string>& lossTermNames() {
                                               "intermediate_loss_2_l1",
                                               "intermediate_loss_3_l1",
                                               "smooth_layers",
-                                              "depth"};
+                                              "depth",
+                                              "mpi_depth"};
   return names;
 }
 
@@ -102,7 +103,8 @@ TrainingConfig::TrainingConfig() {
                  {"intermediate_loss_2_l1", 1.0},
                  {"intermediate_loss_3_l1", 1.0},
                  {"smooth_layers", 0.01},
-                 {"depth", 0.0}};
+                 {"depth", 0.0},
+                 {"mpi_depth", 0.0}};
 }
 
 double TrainingConfig::weight(const std::string& term) const {

@@ -72,7 +72,7 @@ LossTerms computeLosses(const TrainingConfig& config, const generator::Generator
                         const ocl::Tensor& novelColour, const ocl::Tensor& novelOpacity,
                         const ocl::Tensor& novelTargets, const ocl::Tensor& cleanSources,
                         const Vgg19Features* vgg, const ocl::Tensor& novelDepth,
-                        const ocl::Tensor& novelInverseDepth) {
+                        const ocl::Tensor& novelInverseDepth, const PlaneTargets* planes) {
   LossTerms out;
   auto addTerm = [&](const std::string& name, const ocl::Tensor& t) {
     out.terms.emplace_back(name, t);
@@ -101,6 +101,12 @@ LossTerms computeLosses(const TrainingConfig& config, const generator::Generator
   addTerm("smooth_layers", ocl::smoothLayersLoss(ocl::unsqueeze(D, 0)));
   if (novelInverseDepth.defined())
     addTerm("depth", depthLoss(novelDepth, novelOpacity, novelInverseDepth));
+  if (planes) {
+    if (!output.level0SourceWeights.defined())
+      fail("computeLosses: the mpi_depth term needs the level-0 render's weights "
+           "(keepIntermediates)");
+    addTerm("mpi_depth", planeCrossEntropy(output.level0SourceWeights, *planes));
+  }
   // Keep lossTermNames() order in the list (perceptual may be missing; order is preserved).
   if (!out.total.defined())
     out.total = ocl::Tensor::zeros({1}, novelColour.dtype());

@@ -169,6 +169,9 @@ TrainingSample Sampler::drawFromScene(const scene::Scene& scene, uint64_t sceneI
     for (int f : s.targetFrames)
       s.targetDepths.push_back(
           zoomCropDepth((*depths)[size_t(f)], W, H, s.zoom, s.cropX, s.cropY, cw, ch));
+    for (int f : s.sourceFrames)
+      s.sourceDepths.push_back(
+          zoomCropDepth((*depths)[size_t(f)], W, H, s.zoom, s.cropX, s.cropY, cw, ch));
   }
   s.reference = scene::referenceCamera(s.sourceCameras);
   // MixUp on the sources only (kornia RandomMixUp: blend with another image of the batch).

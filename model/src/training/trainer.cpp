@@ -20,12 +20,12 @@ namespace simpli::training {
 namespace {
 namespace fs = std::filesystem;
 
-// The loss terms in log.csv: the reference's always; the depth term (not in the reference) only
-// when it is on, so that the logs of runs without it keep their columns (and resume).
+// The loss terms in log.csv: the reference's always; the depth terms (not in the reference)
+// only when they are on, so that the logs of runs without them keep their columns (and resume).
 std::vector<std::string> loggedTerms(const TrainingConfig& config) {
   std::vector<std::string> terms;
   for (const std::string& t : lossTermNames())
-    if (t != "depth" || config.weight(t) > 0)
+    if ((t != "depth" && t != "mpi_depth") || config.weight(t) > 0)
       terms.push_back(t);
   return terms;
 }
@@ -272,11 +272,18 @@ Trainer::SampleLoss Trainer::sampleLoss(Sampler& sampler) {
   if (config_.weight("depth") > 0 && !s.targetDepths.empty())
     inverseDepth =
         inverseDepthTensor(s.targetDepths, s.targets[0].width, s.targets[0].height, dtype);
+  std::unique_ptr<PlaneTargets> planes; // likewise for the level-0 plane term
+  if (config_.weight("mpi_depth") > 0 && !s.sourceDepths.empty()) {
+    const ocl::Tensor& w = out.level0SourceWeights;
+    planes = std::make_unique<PlaneTargets>(planeTargets(
+        out.planeDepths, s.reference, s.sourceCameras, s.sourceDepths, s.cleanSources[0].width,
+        s.cleanSources[0].height, int(w.size(3)), int(w.size(4))));
+  }
   const ocl::Tensor novelOpacity = ocl::concat(opacities, 0);
-  const LossTerms losses =
-      computeLosses(config_, out, ocl::concat(colours, 0), novelOpacity, targets, clean,
-                    vgg_.loaded() ? &vgg_ : nullptr,
-                    inverseDepth.defined() ? ocl::concat(depths, 0) : ocl::Tensor(), inverseDepth);
+  const LossTerms losses = computeLosses(
+      config_, out, ocl::concat(colours, 0), novelOpacity, targets, clean,
+      vgg_.loaded() ? &vgg_ : nullptr,
+      inverseDepth.defined() ? ocl::concat(depths, 0) : ocl::Tensor(), inverseDepth, planes.get());
   SampleLoss result;
   result.total = losses.total.item();
   if (losses.total.hasGradFn())

@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 namespace simpli::training {
 namespace {
@@ -182,6 +183,57 @@ TEST(TrainTrainer, FusedAggregationTrainsLikeTheComposedOps) {
   EXPECT_GT(attentionParameters, 0); // the view attention is part of the network trained
   fs::remove_all(a);
   fs::remove_all(b);
+}
+
+// The level-0 plane term (mpi_depth) on synthetic data, which knows its depth: logged only
+// when on, part of the total with its weight, and it reaches the level-0 parameters (the same
+// seed and samples without it end with other level-0 weights).
+TEST(TrainTrainer, PlaneDepthTermTrainsLevelZero) {
+  deterministicDevice();
+  const fs::path on = tempRun("mpi_depth_on"), off = tempRun("mpi_depth_off");
+  for (const bool withTerm : {true, false}) {
+    TrainingConfig cfg = tinyConfig(2, 2);
+    cfg.dtype = ocl::Dtype::F64;
+    cfg.lossWeights["mpi_depth"] = withTerm ? 0.5 : 0.0;
+    TrainerOptions o = options(withTerm ? on : off);
+    o.data = "synthetic:3";
+    Trainer(&cfg, o).run();
+  }
+  std::vector<std::string> header;
+  const auto rows = TrainLog::read((on / "log.csv").string(), &header);
+  ASSERT_EQ(rows.size(), 2u);
+  std::map<std::string, double> row;
+  for (size_t i = 0; i < header.size(); ++i)
+    row[header[i]] = rows[0][i];
+  ASSERT_EQ(row.count("mpi_depth"), 1u);
+  EXPECT_TRUE(std::isfinite(row["mpi_depth"]));
+  EXPECT_GT(row["mpi_depth"], 0.1); // an untrained network does not know the planes
+  double total = 0.5 * row["mpi_depth"] + row["l1"] + 0.01 * row["smooth_layers"];
+  for (int k = 0; k < 4; ++k)
+    total += row["intermediate_loss_" + std::to_string(k) + "_l1"];
+  EXPECT_NEAR(row["total"], total, 1e-9 * total);
+  std::vector<std::string> offHeader;
+  TrainLog::read((off / "log.csv").string(), &offHeader);
+  EXPECT_EQ(std::count(offHeader.begin(), offHeader.end(), "mpi_depth"), 0);
+
+  const TrainingConfig cfg = tinyConfig(2, 2);
+  network::SimpliNetwork a(cfg.network, ocl::Dtype::F64), b(cfg.network, ocl::Dtype::F64);
+  a.parameters().load((on / "weights.safetensors").string());
+  b.parameters().load((off / "weights.safetensors").string());
+  double lvl0 = 0, maxDiff = 0;
+  for (const std::string& n : a.parameters().names()) {
+    if (n.rfind("alpha_decoder_lvl0", 0) != 0)
+      continue;
+    const std::vector<double> wa = a.parameters().get(n).toVector();
+    const std::vector<double> wb = b.parameters().get(n).toVector();
+    for (size_t i = 0; i < wa.size(); ++i)
+      maxDiff = std::max(maxDiff, std::abs(wa[i] - wb[i]));
+    ++lvl0;
+  }
+  EXPECT_GT(lvl0, 0);
+  EXPECT_GT(maxDiff, 1e-6);
+  fs::remove_all(on);
+  fs::remove_all(off);
 }
 
 // ema_decay d: after steps with weights w1, w2 the average is d^2 w0 + d (1 - d) w1 + (1 - d) w2,

@@ -82,6 +82,10 @@ struct GeneratorOutput {
   /// sources (§8.1): [0] the level-1 MPI render, channels 9-11, [V, 3, h1, w1]; then for every
   /// correction run, the mesh render that fed it, [V, 3, H, W].
   std::vector<ocl::Tensor> intermediateSourceRenders;
+  /// With keepIntermediates: the per-plane compositing weights of that level-0 MPI render,
+  /// [V, P, 1, h, w] (plane 0 the farthest), and the plane depths (reference-camera z).
+  ocl::Tensor level0SourceWeights;
+  std::vector<double> planeDepths;
   /// (stage name, milliseconds) in execution order. Without timeStages these are host times
   /// to enqueue the stage's work (the device may still be running it).
   std::vector<std::pair<std::string, double>> stageMs;

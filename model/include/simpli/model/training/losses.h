@@ -13,6 +13,7 @@
 // total = sum of weight * term over the terms with a positive weight.
 #include "simpli/model/generator/generator.h"
 #include "simpli/model/training/config.h"
+#include "simpli/model/training/plane_loss.h"
 #include "simpli/model/training/vgg.h"
 
 #include "simpli/ocl/tensor.h"
@@ -52,11 +53,13 @@ ocl::Tensor depthLoss(const ocl::Tensor& renderedDepth, const ocl::Tensor& rende
 /// cleanSources [V, 3, H, W]; `output` must carry intermediateSourceRenders (keepIntermediates)
 /// for the intermediate terms (terms without a render are skipped). `vgg` may be null or
 /// unloaded: then the perceptual term is skipped. The depth term is computed when
-/// novelInverseDepth [N, 1, H, W] is given (with novelDepth, the rendered depth [N, 1, H, W]).
+/// novelInverseDepth [N, 1, H, W] is given (with novelDepth, the rendered depth [N, 1, H, W]);
+/// the mpi_depth term when `planes` is given (targets of output.level0SourceWeights).
 LossTerms computeLosses(const TrainingConfig& config, const generator::GeneratorOutput& output,
                         const ocl::Tensor& novelColour, const ocl::Tensor& novelOpacity,
                         const ocl::Tensor& novelTargets, const ocl::Tensor& cleanSources,
                         const Vgg19Features* vgg, const ocl::Tensor& novelDepth = {},
-                        const ocl::Tensor& novelInverseDepth = {});
+                        const ocl::Tensor& novelInverseDepth = {},
+                        const PlaneTargets* planes = nullptr);
 
 } // namespace simpli::training

@@ -40,6 +40,8 @@ struct TrainingSample {
   /// normalised units, 0 = no surface, after the same zoom and crop as the target image
   /// (nearest texel); empty otherwise.
   std::vector<std::vector<float>> targetDepths;
+  /// The same per source (sourceFrames order).
+  std::vector<std::vector<float>> sourceDepths;
 };
 
 /// Frames of one draw (indices into the scene's views).
