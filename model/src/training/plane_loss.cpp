@@ -73,8 +73,15 @@ PlaneTargets planeTargets(const std::vector<double>& planeDepths, const scene::C
         if (!(z > 0) || !std::isfinite(z))
           continue;
         const Eigen::Vector3d camera((u - c.cx) / c.fx * z, (w - c.cy) / c.fy * z, z);
-        const double zRef = reference.worldToCamera(c.cameraToWorld(camera)).z();
+        const Eigen::Vector3d inRef = reference.worldToCamera(c.cameraToWorld(camera));
+        const double zRef = inRef.z();
         if (!(zRef > 0))
+          continue;
+        // A point outside the reference image lies outside the MPI, where every plane is
+        // transparent: no weights could ever meet its target.
+        const double ur = reference.fx * inRef.x() / zRef + reference.cx;
+        const double vr = reference.fy * inRef.y() / zRef + reference.cy;
+        if (!(ur >= 0 && ur <= 1 && vr >= 0 && vr <= 1))
           continue;
         double* at = out.values.data() + v * P * plane + size_t(y) * size_t(width) + size_t(x);
         spreadOverPlanes(1 / zRef, disparity, at, plane);

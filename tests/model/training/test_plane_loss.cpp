@@ -47,8 +47,15 @@ TEST(PlaneLoss, TargetsFollowTheTrueDisparity) {
   wallB[size_t(1 * 8 + 1)] = 0.5f; // source 1 pixel (0, 0): z_ref 0.5 - 1 < 0, behind the reference
   const PlaneTargets t = planeTargets(kPlanes, ref, sources, {wallA, wallB}, 8, 6, 3, 4);
   ASSERT_EQ(t.values.size(), 2u * 3u * 12u);
-  EXPECT_EQ(t.known, 2 * 12 - 2);
+  // Source 0 sits 0.3 to the right: its wall points (z 2) appear 0.9 * 0.3 / 2 = 0.135 further
+  // right in the reference, so its last column (u 0.875) falls outside the reference image
+  // (outside the MPI) except at z 100: 12 - 1 (no surface) - 2 = 9 targets. Source 1, 1 unit
+  // behind, sees 1.5x wider than the reference at the wall: only (u, v) in the middle
+  // columns of rows 1 and 2 map inside: 4 targets.
+  EXPECT_EQ(t.known, 9 + 4);
   for (int p = 0; p < 3; ++p) {
+    EXPECT_EQ(at(t, 0, p, 0, 3), 0.0) << "outside the MPI, no target";
+    EXPECT_EQ(at(t, 0, p, 1, 3), 0.0) << "outside the MPI, no target";
     EXPECT_EQ(at(t, 0, p, 0, 0), 0.0) << "no surface, no target";
     EXPECT_EQ(at(t, 1, p, 0, 0), 0.0) << "behind the reference, no target";
   }

@@ -25,7 +25,8 @@ struct PlaneTargets {
 /// 0 = no surface; nearest texel), its reference-camera z, and the two planes around its
 /// disparity 1/z, weighted linearly in disparity (all mass on the back or front plane beyond
 /// the range). `planeDepths` are the generator's (index 0 = back, the farthest). Pixels without
-/// a surface or whose point lies behind the reference camera get no target.
+/// a surface, or whose point lies behind the reference camera or outside its image (outside the
+/// MPI, where no plane has weight), get no target.
 PlaneTargets planeTargets(const std::vector<double>& planeDepths, const scene::Camera& reference,
                           const std::vector<scene::Camera>& sources,
                           const std::vector<std::vector<float>>& depths, int depthWidth,
