@@ -12,8 +12,8 @@
 namespace simpli::training {
 namespace {
 
-// Adds the distribution of disparity s over the planes (disparities ascending) at `out`,
-// stepping `stride` between planes.
+// Writes the distribution of disparity s over the planes (disparities ascending) at `out`,
+// stepping `stride` between planes (the other planes keep their zeros).
 void spreadOverPlanes(double s, const std::vector<double>& planeDisparity, double* out,
                       size_t stride) {
   const size_t P = planeDisparity.size();
