@@ -49,6 +49,15 @@ private:
 
 } // namespace
 
+std::map<std::string, std::string> weightsMetadata(int64_t step,
+                                                   const std::string& networkConfigJson) {
+  std::map<std::string, std::string> meta{{"format", "simpli-weights"},
+                                          {"step", std::to_string(step)}};
+  if (!networkConfigJson.empty())
+    meta["network_config"] = networkConfigJson;
+  return meta;
+}
+
 std::string checkpointDir(const std::string& runDir, int64_t step) {
   char name[32];
   std::snprintf(name, sizeof name, "step_%08lld", static_cast<long long>(step));
@@ -73,15 +82,13 @@ std::string writeCheckpoint(const std::string& runDir, const network::ParameterS
     fail("writeCheckpoint: cannot create '", tmp.string(), "': ", ec.message());
   FileCounter counter(options.failAfterFiles);
 
-  // The network config travels with the weights ("network_config" metadata), so that
-  // `simpli infer --weights` needs no --config.
-  std::map<std::string, std::string> meta{{"format", "simpli-weights"},
-                                          {"step", std::to_string(data.step)}};
+  std::string networkConfig;
   if (!data.configJson.empty()) {
     const json config = json::parse(data.configJson);
     if (config.is_object() && config.contains("network") && config["network"].is_object())
-      meta["network_config"] = config["network"].dump(2);
+      networkConfig = config["network"].dump(2);
   }
+  const std::map<std::string, std::string> meta = weightsMetadata(data.step, networkConfig);
   const std::string weights = (tmp / "weights.safetensors").string();
   store.save(weights, meta);
   counter.wrote(weights);

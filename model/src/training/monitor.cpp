@@ -5,6 +5,7 @@
 #include "simpli/model/io/safetensors.h"
 #include "simpli/model/metrics/comparison_grid.h"
 #include "simpli/model/metrics/line_plot.h"
+#include "simpli/model/training/checkpoint.h"
 #include "simpli/model/training/eval.h"
 
 #include <cmath>
@@ -143,9 +144,7 @@ std::unique_ptr<ValidationScore> TrainingMonitor::update(network::SimpliNetwork&
     lastValidated_ = step;
     if (!best_ || score->psnr > best_->psnr) {
       network.parameters().save(bestWeightsPath(runDir_),
-                                {{"format", "simpli-weights"},
-                                 {"step", std::to_string(step)},
-                                 {"network_config", network::toJson(network.config())}});
+                                weightsMetadata(step, network::toJson(network.config())));
       score->best = true;
       best_ = std::make_unique<ValidationScore>(*score);
     }

@@ -85,6 +85,31 @@ TEST(TrainCheckpoint, RoundTripIsExact) {
   fs::remove_all(run);
 }
 
+// The weights of a checkpoint carry the run's network section, so that `simpli infer
+// --weights` needs no --config; best.safetensors (training/monitor.h) uses the same metadata.
+TEST(TrainCheckpoint, WeightsCarryStepAndNetworkConfig) {
+  const fs::path run = tempRun("metadata");
+  Fixture f;
+  CheckpointData d = f.data(12);
+  d.configJson = "{\"network\": {\"planes\": 5}, \"steps\": 3}";
+  const std::string dir = writeCheckpoint(run.string(), f.store, d);
+  const std::string networkConfig = "{\n  \"planes\": 5\n}";
+  const std::map<std::string, std::string> expected = weightsMetadata(12, networkConfig);
+  EXPECT_EQ(expected.at("format"), "simpli-weights");
+  EXPECT_EQ(expected.at("step"), "12");
+  EXPECT_EQ(expected.at("network_config"), networkConfig);
+  for (const fs::path& file : {fs::path(dir) / "weights.safetensors", run / "weights.safetensors"})
+    EXPECT_EQ(io::SafeTensorsReader(file.string()).metadata(), expected) << file;
+  // Without a network section the key is left out rather than written empty.
+  d.configJson = "{\"steps\": 3}";
+  d.step = 13;
+  writeCheckpoint(run.string(), f.store, d);
+  EXPECT_EQ(io::SafeTensorsReader((run / "weights.safetensors").string()).metadata(),
+            weightsMetadata(13, ""));
+  EXPECT_EQ(weightsMetadata(13, "").count("network_config"), 0u);
+  fs::remove_all(run);
+}
+
 TEST(TrainCheckpoint, FailedWriteKeepsLastGoodCheckpoint) {
   const fs::path run = tempRun("atomic");
   Fixture f;

@@ -49,6 +49,12 @@ struct CheckpointWriteOptions {
   int failAfterFiles = -1;
 };
 
+/// The metadata every weights file of a run carries (a checkpoint's, best.safetensors): "format"
+/// "simpli-weights", "step", and "network_config" (the network section's JSON, omitted when
+/// empty) so that `simpli infer --weights` needs no --config.
+std::map<std::string, std::string> weightsMetadata(int64_t step,
+                                                   const std::string& networkConfigJson);
+
 /// checkpoints/step_NNNNNNNN under `runDir`.
 std::string checkpointDir(const std::string& runDir, int64_t step);
 
