@@ -70,10 +70,13 @@ PlaneTargets planeTargets(const std::vector<double>& planeDepths, const scene::C
         const int col = std::min(int(u * depthWidth), depthWidth - 1);
         const int row = std::min(int(w * depthHeight), depthHeight - 1);
         const double z = depth[size_t(row) * size_t(depthWidth) + size_t(col)];
-        if (!(z > 0) || !std::isfinite(z))
+        if (!(z >= 0) || !std::isfinite(z))
           continue;
-        const Eigen::Vector3d camera((u - c.cx) / c.fx * z, (w - c.cy) / c.fy * z, z);
-        const Eigen::Vector3d inRef = reference.worldToCamera(c.cameraToWorld(camera));
+        const Eigen::Vector3d ray((u - c.cx) / c.fx, (w - c.cy) / c.fy, 1);
+        // z = 0: the ray met nothing, and the renderer coloured it by its direction alone (the
+        // sky): a point at infinity, seen from the reference along the rotated ray.
+        const Eigen::Vector3d inRef = z > 0 ? reference.worldToCamera(c.cameraToWorld(ray * z))
+                                            : Eigen::Vector3d(reference.R * c.R.transpose() * ray);
         const double zRef = inRef.z();
         if (!(zRef > 0))
           continue;
@@ -84,7 +87,7 @@ PlaneTargets planeTargets(const std::vector<double>& planeDepths, const scene::C
         if (!(ur >= 0 && ur <= 1 && vr >= 0 && vr <= 1))
           continue;
         double* at = out.values.data() + v * P * plane + size_t(y) * size_t(width) + size_t(x);
-        spreadOverPlanes(1 / zRef, disparity, at, plane);
+        spreadOverPlanes(z > 0 ? 1 / zRef : 0.0, disparity, at, plane);
         ++out.known;
       }
   }

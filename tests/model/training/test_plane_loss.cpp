@@ -41,7 +41,7 @@ TEST(PlaneLoss, TargetsFollowTheTrueDisparity) {
   const std::vector<scene::Camera> sources{camera({0.3, -0.2, 0}), camera({0, 0, -1})};
   // 8x6 depth maps rendered at 4x3: each render pixel takes the texel under its centre.
   std::vector<float> wallA(48, 2.0f), wallB(48, 3.0f);
-  wallA[size_t(1 * 8 + 1)] = 0;            // render pixel (0, 0): texel (1, 1) has no surface
+  wallA[size_t(1 * 8 + 1)] = 0;            // render pixel (0, 0): texel (1, 1) sees the sky
   wallA[size_t(3 * 8 + 3)] = 1.0f / 0.75f; // render pixel (1, 1): disparity 0.75
   wallA[size_t(5 * 8 + 7)] = 100.0f;       // render pixel (3, 2): beyond the farthest plane
   wallB[size_t(1 * 8 + 1)] = 0.5f; // source 1 pixel (0, 0): z_ref 0.5 - 1 < 0, behind the reference
@@ -49,14 +49,13 @@ TEST(PlaneLoss, TargetsFollowTheTrueDisparity) {
   ASSERT_EQ(t.values.size(), 2u * 3u * 12u);
   // Source 0 sits 0.3 to the right: its wall points (z 2) appear 0.9 * 0.3 / 2 = 0.135 further
   // right in the reference, so its last column (u 0.875) falls outside the reference image
-  // (outside the MPI) except at z 100: 12 - 1 (no surface) - 2 = 9 targets. Source 1, 1 unit
+  // (outside the MPI) except at z 100: 12 - 2 = 10 targets. Source 1, 1 unit
   // behind, sees 1.5x wider than the reference at the wall: only (u, v) in the middle
   // columns of rows 1 and 2 map inside: 4 targets.
-  EXPECT_EQ(t.known, 9 + 4);
+  EXPECT_EQ(t.known, 10 + 4);
   for (int p = 0; p < 3; ++p) {
     EXPECT_EQ(at(t, 0, p, 0, 3), 0.0) << "outside the MPI, no target";
     EXPECT_EQ(at(t, 0, p, 1, 3), 0.0) << "outside the MPI, no target";
-    EXPECT_EQ(at(t, 0, p, 0, 0), 0.0) << "no surface, no target";
     EXPECT_EQ(at(t, 1, p, 0, 0), 0.0) << "behind the reference, no target";
   }
   // Wall at z 2 (source 0): all on the middle plane. Disparity 0.75: half way between 1 and 2.
@@ -64,6 +63,8 @@ TEST(PlaneLoss, TargetsFollowTheTrueDisparity) {
   EXPECT_NEAR(at(t, 0, 1, 1, 1), 0.5, 1e-6); // (the depth map is float)
   EXPECT_NEAR(at(t, 0, 2, 1, 1), 0.5, 1e-6);
   EXPECT_DOUBLE_EQ(at(t, 0, 0, 2, 3), 1.0); // z 100: the back plane takes it all
+  EXPECT_DOUBLE_EQ(at(t, 0, 0, 0, 0), 1.0); // the sky (z 0, at infinity): likewise
+  EXPECT_EQ(at(t, 0, 1, 0, 0) + at(t, 0, 2, 0, 0), 0.0);
   // Source 1 sees z 3, i.e. z_ref 2: the middle plane.
   EXPECT_NEAR(at(t, 1, 1, 2, 2), 1.0, 1e-12);
   // Every known pixel's targets sum to 1.
@@ -95,6 +96,31 @@ TEST(PlaneLoss, TargetsUseTheReferenceDepthOfTheSeenPoint) {
     expected += t.values[p * 12 + 1 * 4 + 2] / planes[p];
   EXPECT_NEAR(expected, s, 1e-12);
   EXPECT_NE(std::abs(s - 1 / z), 0.0) << "the rotation and offset change the depth";
+}
+
+// The sky (depth 0) lies at infinity: only the rotation between the cameras moves it. A source
+// turned 0.5 rad about y sees directions whose azimuth atan((u - cx) / fx) is 0.5 rad smaller
+// in the reference: columns u 0.125 .. 0.875 go from -0.37, -0.10, 0.17, 0.42 rad to -0.87,
+// -0.60, -0.33, -0.08, and the reference sees -0.48 .. 0.53 rad: the last two columns (every
+// row: their vertical slopes stay within 0.92-1.04x) land on the back plane, the first two
+// have no target. Translation does not matter at infinity.
+TEST(PlaneLoss, SkyTargetsTheBackPlaneWhereItsDirectionIsInTheReference) {
+  const scene::Camera ref = camera({0, 0, 0});
+  scene::Camera src = camera({5, -3, 2});
+  src.R = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  src.t = -src.R * Eigen::Vector3d(5, -3, 2);
+  std::vector<float> sky(48, 0.0f);
+  std::vector<float> bad = sky;
+  bad[size_t(1 * 8 + 7)] = -2.0f; // render pixel (3, 0): a negative depth, no target
+  const PlaneTargets t = planeTargets(kPlanes, ref, {src, src}, {sky, bad}, 8, 6, 3, 4);
+  EXPECT_EQ(t.known, 6 + 5);
+  for (int v = 0; v < 2; ++v)
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 4; ++x) {
+        const bool back = x >= 2 && !(v == 1 && y == 0 && x == 3);
+        EXPECT_EQ(at(t, v, 0, y, x), back ? 1.0 : 0.0) << v << " " << y << " " << x;
+        EXPECT_EQ(at(t, v, 1, y, x) + at(t, v, 2, y, x), 0.0) << v << " " << y << " " << x;
+      }
 }
 
 TEST(PlaneLoss, CrossEntropyMatchesDoubleReferenceAndFiniteDifferences) {

@@ -21,12 +21,14 @@ struct PlaneTargets {
 };
 
 /// For every pixel of every source at height x width (centre grid, as renderMpi's targets): the
-/// surface point from the true depth (`depths[v]`, depthWidth x depthHeight source-camera z,
-/// 0 = no surface; nearest texel), its reference-camera z, and the two planes around its
-/// disparity 1/z, weighted linearly in disparity (all mass on the back or front plane beyond
-/// the range). `planeDepths` are the generator's (index 0 = back, the farthest). Pixels without
-/// a surface, or whose point lies behind the reference camera or outside its image (outside the
-/// MPI, where no plane has weight), get no target.
+/// surface point from the true depth (`depths[v]`, depthWidth x depthHeight source-camera z;
+/// nearest texel), its reference-camera z, and the two planes around its disparity 1/z,
+/// weighted linearly in disparity (all mass on the back or front plane beyond the range).
+/// `planeDepths` are the generator's (index 0 = back, the farthest). Depth 0 is the synthetic
+/// renderer's "the ray met nothing" (the sky, coloured by direction alone): a point at
+/// infinity, whose target is the back plane. Pixels whose point lies behind the reference
+/// camera or outside its image (outside the MPI, where no plane has weight), or whose depth is
+/// negative or not finite, get no target.
 PlaneTargets planeTargets(const std::vector<double>& planeDepths, const scene::Camera& reference,
                           const std::vector<scene::Camera>& sources,
                           const std::vector<std::vector<float>>& depths, int depthWidth,
