@@ -105,7 +105,7 @@ void runBenchTrain(const BenchTrainOptions& o) {
   const training::TrainingConfig config = training::resolveTrainingConfig(o.config);
   TempRun run;
   training::TrainerOptions t;
-  t.data = o.data;
+  t.data = {{o.data}};
   t.runDir = run.str();
   t.checkpointEvery = 1 << 30; // no checkpoints: only steps are timed
   t.dataOptions.configSource = "training config '" + o.config + "'";

@@ -1,5 +1,6 @@
-// `simpli train DATA --config C --out RUN`: trains a SIMPLI network (model/training/). DATA is a
-// scene folder, a folder of scene folders, or synthetic[:SEED]. SIGINT / SIGTERM (any number of
+// `simpli train DATA... --config C --out RUN`: trains a SIMPLI network (model/training/). DATA is
+// a scene folder, a folder of scene folders, or synthetic[:SEED]; several DATA (each optionally
+// SPEC@WEIGHT) are mixed by weight (training/data.h). SIGINT / SIGTERM (any number of
 // them, from the moment the command starts) finish the current step, write a checkpoint and exit
 // with 130 / 143; `--resume` continues the run.
 //
@@ -30,7 +31,8 @@ namespace simpli::app {
 namespace {
 
 struct TrainCliOptions {
-  std::string data, config, out, vgg, size, device, initWeights;
+  std::vector<std::string> data;
+  std::string config, out, vgg, size, device, initWeights;
   std::string validate, validateSize = "256x192";
   int64_t validateEvery = 100;
   bool resume = false;
@@ -93,7 +95,8 @@ int runTrain(const TrainCliOptions& o) {
     io::checkOutputLocation(o.out, "--out", /*createParents=*/true);
   selectDevice(o.device);
   training::TrainerOptions t;
-  t.data = o.data;
+  for (const std::string& d : o.data)
+    t.data.push_back(training::parseDataSource(d));
   t.runDir = o.out;
   t.resume = o.resume;
   t.steps = o.steps;
@@ -219,7 +222,8 @@ void addTrainCommand(CLI::App& app) {
       "train", "Train a SIMPLI network on scenes (checkpointed, resumable; Ctrl-C stops "
                "cleanly after a checkpoint)");
   cmd->add_option("data", opts->data,
-                  "A scene folder, a folder of scene folders, or synthetic[:SEED]")
+                  "A scene folder, a folder of scene folders, or synthetic[:SEED]; several "
+                  "are mixed, each SPEC@WEIGHT drawn with its share of the weights (default 1)")
       ->required();
   cmd->add_option("--config", opts->config,
                   "Training config: a name (tiny, official-4l: model/configs/training/NAME.json, "

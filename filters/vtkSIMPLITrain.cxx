@@ -156,7 +156,7 @@ int vtkSIMPLITrain::RequestData(vtkInformation* vtkNotUsed(request),
         auto messages = vtkSmartPointer<vtkStringArray>::New();
         messages->SetName("Messages");
         simpli::training::TrainerOptions options;
-        options.data = this->DataPath;
+        options.data = {{this->DataPath}};
         options.runDir = this->RunDirectory;
         options.resume = this->Resume;
         options.steps = this->Steps;

@@ -5,13 +5,17 @@
 #include "simpli/model/scene/scene_folders.h"
 #include "simpli/model/synthetic/photos.h"
 #include "simpli/model/synthetic/procedural_source.h"
+#include "simpli/model/synthetic/random.h"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <regex>
+#include <sstream>
 
 namespace simpli::training {
 namespace {
@@ -147,7 +151,87 @@ private:
   uint64_t currentIndex_ = 0;
 };
 
+// Sources drawn by weight from the sampler's scene index (sceneCount 0: the sampler draws a
+// 31-bit index, and every index maps to one source's scene).
+class MixedData : public TrainingData {
+public:
+  MixedData(std::vector<std::unique_ptr<TrainingData>> parts, std::vector<double> weights)
+      : parts_(std::move(parts)), weights_(std::move(weights)) {
+    const double total = std::accumulate(weights_.begin(), weights_.end(), 0.0);
+    double sum = 0;
+    for (double w : weights_)
+      cumulative_.push_back(sum += w / total);
+    cumulative_.back() = 1;
+  }
+  uint64_t sceneCount() const override { return 0; }
+  const scene::Scene& scene(uint64_t index) override {
+    const auto [part, inner] = locate(index);
+    return parts_[part]->scene(inner);
+  }
+  const std::vector<std::vector<float>>* depths(uint64_t index) override {
+    const auto [part, inner] = locate(index);
+    return parts_[part]->depths(inner);
+  }
+  std::string describe() const override {
+    std::ostringstream out;
+    out << "a mixture of " << parts_.size() << " sources: ";
+    double previous = 0;
+    for (size_t k = 0; k < parts_.size(); ++k) {
+      out << (k ? "; " : "") << std::fixed << std::setprecision(1)
+          << 100 * (cumulative_[k] - previous) << " % " << parts_[k]->describe();
+      previous = cumulative_[k];
+    }
+    return out.str();
+  }
+
+private:
+  // (source, its scene index) of mixture index `index`.
+  std::pair<size_t, uint64_t> locate(uint64_t index) const {
+    const uint64_t h = synthetic::mix64(index);
+    const double u = double(h >> 11) * 0x1.0p-53; // uniform in [0, 1)
+    const size_t part =
+        size_t(std::upper_bound(cumulative_.begin(), cumulative_.end(), u) - cumulative_.begin());
+    const size_t k = std::min(part, parts_.size() - 1);
+    const uint64_t count = parts_[k]->sceneCount();
+    return {k, count == 0 ? index : synthetic::mix64(h) % count};
+  }
+  std::vector<std::unique_ptr<TrainingData>> parts_;
+  std::vector<double> weights_, cumulative_;
+};
+
 } // namespace
+
+DataSource parseDataSource(const std::string& text) {
+  const size_t at = text.rfind('@');
+  if (at == std::string::npos || fs::exists(text))
+    return {text, 1.0};
+  const std::string spec = text.substr(0, at), weight = text.substr(at + 1);
+  static const std::regex number("^[0-9]*\\.?[0-9]+([eE][-+]?[0-9]+)?$");
+  if (spec.empty() || !std::regex_match(weight, number))
+    fail("training data '", text, "': expected SPEC or SPEC@WEIGHT with a positive number ",
+         "as WEIGHT, e.g. synthetic:1@3");
+  const double w = std::stod(weight);
+  if (!(w > 0) || !std::isfinite(w))
+    fail("training data '", text, "': weight ", weight, " must be positive and finite");
+  return {spec, w};
+}
+
+std::unique_ptr<TrainingData> openTrainingData(const std::vector<DataSource>& sources,
+                                               const DataOptions& o) {
+  if (sources.empty())
+    fail("training data: no source given");
+  if (sources.size() == 1)
+    return openTrainingData(sources[0].spec, o);
+  std::vector<std::unique_ptr<TrainingData>> parts;
+  std::vector<double> weights;
+  for (const DataSource& d : sources) {
+    if (!(d.weight > 0) || !std::isfinite(d.weight))
+      fail("training data '", d.spec, "': weight ", d.weight, " must be positive and finite");
+    parts.push_back(openTrainingData(d.spec, o));
+    weights.push_back(d.weight);
+  }
+  return std::make_unique<MixedData>(std::move(parts), std::move(weights));
+}
 
 void parseWidthHeight(const std::string& text, const std::string& what, int& width, int& height) {
   static const std::regex pattern("^\\s*([0-9]{1,6})\\s*[xX]\\s*([0-9]{1,6})\\s*$");

@@ -1,7 +1,7 @@
 // Training data sources (training/data.h): the synthetic source follows the config's
 // "synthetic" section — style, size, views, photo textures from a folder — and, when photo
 // textures are asked for and no photographs exist, fails with a named error or (photos_required
-// false) falls back to procedural textures and says so.
+// false) falls back to procedural textures and says so; several sources mix by weight.
 #include "support/expect_error.h"
 #include "support/temp_dir.h"
 
@@ -9,6 +9,9 @@
 #include "simpli/model/training/data.h"
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
 
 namespace simpli::training {
 namespace {
@@ -124,6 +127,89 @@ TEST(TrainData, NoPhotosIsANamedErrorOrAProceduralFallback) {
   // A photo folder that does not exist is named.
   o.synthetic.photoDir = empty.str("missing");
   test::expectError([&] { openTrainingData("synthetic", o); }, {"photo folder", "missing"});
+}
+
+TEST(TrainData, ParsesWeightedSources) {
+  const DataSource plain = parseDataSource("synthetic:1");
+  EXPECT_EQ(plain.spec, "synthetic:1");
+  EXPECT_EQ(plain.weight, 1.0);
+  const DataSource weighted = parseDataSource("scenes/llff@0.25");
+  EXPECT_EQ(weighted.spec, "scenes/llff");
+  EXPECT_EQ(weighted.weight, 0.25);
+  EXPECT_EQ(parseDataSource("synthetic@3e1").weight, 30.0);
+  // A path that exists is taken whole, '@' and all.
+  test::TempDir dir;
+  const std::string odd = dir.str("scenes@2");
+  std::filesystem::create_directories(odd);
+  EXPECT_EQ(parseDataSource(odd).spec, odd);
+  EXPECT_EQ(parseDataSource(odd).weight, 1.0);
+  for (const std::string bad : {"synthetic@", "synthetic@-1", "synthetic@abc", "@2", "synthetic@1x",
+                                "synthetic@0", "synthetic@0.0"})
+    test::expectError([&] { parseDataSource(bad); }, {"training data '" + bad + "'"});
+  const DataOptions options = smallSynthetic();
+  test::expectError([&] { openTrainingData(std::vector<DataSource>{}, options); },
+                    {"no source given"});
+  test::expectError(
+      [&] {
+        openTrainingData({{"synthetic:1", 1.0}, {"synthetic:2", -1.0}}, smallSynthetic());
+      },
+      {"'synthetic:2'", "weight -1"});
+}
+
+// scene_00 alone (weight 1) and the folder of all six scenes (weight 3): scene_00 is drawn with
+// probability 1/4 + 3/4 x 1/6 = 0.375, each other scene 3/4 x 1/6 = 0.125 (over 4 000 mixture
+// indices, binomial standard deviations 0.008 and 0.005); an index always gives the same scene.
+TEST(TrainData, MixtureDrawsSourcesByWeight) {
+  const std::string six = std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic";
+  const std::string one = six + "/scene_00";
+  DataOptions o;
+  o.width = 32;
+  o.height = 32;
+  auto data = openTrainingData({{one, 1.0}, {six, 3.0}}, o);
+  EXPECT_EQ(data->sceneCount(), 0u);
+  const std::string about = data->describe();
+  EXPECT_NE(about.find("25.0 % scene " + one), std::string::npos) << about;
+  EXPECT_NE(about.find("75.0 % 6 scenes under " + six), std::string::npos) << about;
+  std::map<std::string, int> counts;
+  const int n = 4000;
+  for (uint64_t i = 0; i < uint64_t(n); ++i) {
+    const uint64_t index = i * 7919; // the sampler draws any 31-bit index
+    const scene::Scene& s = data->scene(index);
+    EXPECT_EQ(data->depths(index), nullptr); // folders know no depth
+    ++counts[std::filesystem::path(s.root).filename().string()];
+  }
+  ASSERT_EQ(counts.size(), 6u);
+  EXPECT_NEAR(counts["scene_00"] / double(n), 0.375, 0.03);
+  for (const char* name : {"scene_01", "scene_02", "scene_03", "scene_04", "scene_05"})
+    EXPECT_NEAR(counts[name] / double(n), 0.125, 0.025) << name;
+  const std::string first = data->scene(12345).root;
+  data->scene(777);
+  EXPECT_EQ(data->scene(12345).root, first);
+}
+
+// A synthetic source in a mixture renders the scene the same source alone renders for that
+// index, with its depths.
+TEST(TrainData, MixtureKeepsTheSyntheticScenesAndDepths) {
+  DataOptions o = smallSynthetic();
+  const std::string folder = std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic/scene_01";
+  auto mixed = openTrainingData({{"synthetic:4", 1.0}, {folder, 1.0}}, o);
+  auto alone = openTrainingData("synthetic:4", o);
+  int synthetic = 0, folders = 0;
+  for (uint64_t index = 0; index < 12; ++index) {
+    const scene::Scene& s = mixed->scene(index);
+    if (s.root == folder) {
+      ++folders;
+      EXPECT_EQ(mixed->depths(index), nullptr);
+      continue;
+    }
+    ++synthetic;
+    const std::vector<float> pixels = s.views[1].image.data;
+    const std::vector<std::vector<float>> depths = *mixed->depths(index);
+    EXPECT_EQ(alone->scene(index).views[1].image.data, pixels) << index;
+    EXPECT_EQ(*alone->depths(index), depths) << index;
+  }
+  EXPECT_GT(synthetic, 0);
+  EXPECT_GT(folders, 0);
 }
 
 } // namespace simpli::training

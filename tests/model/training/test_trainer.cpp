@@ -58,7 +58,7 @@ fs::path tempRun(const std::string& name) {
 
 TrainerOptions options(const fs::path& run) {
   TrainerOptions o;
-  o.data = kScene;
+  o.data = {{kScene}};
   o.runDir = run.string();
   o.dataOptions.height = 32;
   o.dataOptions.width = 48;
@@ -196,7 +196,7 @@ TEST(TrainTrainer, PlaneDepthTermTrainsLevelZero) {
     cfg.dtype = ocl::Dtype::F64;
     cfg.lossWeights["mpi_depth"] = withTerm ? 0.5 : 0.0;
     TrainerOptions o = options(withTerm ? on : off);
-    o.data = "synthetic:3";
+    o.data = {{"synthetic:3"}};
     Trainer(&cfg, o).run();
   }
   std::vector<std::string> header;
@@ -294,7 +294,7 @@ TEST(TrainTrainer, RunFolderRules) {
   // A start that fails on bad input leaves no run folder behind.
   const fs::path unused = tempRun("unused");
   TrainerOptions bad = options(unused);
-  bad.data = "/no/such/scenes";
+  bad.data = {{"/no/such/scenes"}};
   test::expectError([&] { Trainer(&cfg, bad); }, {"/no/such/scenes", "does not exist"});
   bad = options(unused);
   bad.vggPath = "/no/such/vgg.safetensors";

@@ -228,7 +228,7 @@ TEST(TrainVgg, TrainerLogsThePerceptualTerm) {
   const fs::path run = fs::temp_directory_path() / ("simpli_vgg_run_" + std::to_string(::getpid()));
   fs::remove_all(run);
   TrainerOptions o;
-  o.data = std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic/scene_01";
+  o.data = {{std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic/scene_01"}};
   o.runDir = run.string();
   o.dataOptions.height = 32;
   o.dataOptions.width = 48;
@@ -272,7 +272,7 @@ TEST(TrainVgg, FileThatIsNotVggWeightsIsAnError) {
   const fs::path run = fs::temp_directory_path() / ("simpli_vgg_off_" + std::to_string(::getpid()));
   fs::remove_all(run);
   TrainerOptions o;
-  o.data = std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic/scene_01";
+  o.data = {{std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic/scene_01"}};
   o.runDir = run.string();
   o.dataOptions.height = 32;
   o.dataOptions.width = 48;

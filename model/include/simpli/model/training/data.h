@@ -1,7 +1,7 @@
 #pragma once
 // Where training scenes come from: a folder of scenes (every subfolder a scene readScene
 // understands), a single scene folder, or the procedural synthetic source ("synthetic" or
-// "synthetic:SEED": endless random scenes generated in memory).
+// "synthetic:SEED": endless random scenes generated in memory), or a weighted mixture of those.
 #include "simpli/model/scene/scene.h"
 #include "simpli/model/training/config.h"
 
@@ -43,6 +43,25 @@ public:
     return nullptr;
   }
 };
+
+/// One source of a training mixture and its share of the samples (relative to the others).
+struct DataSource {
+  std::string spec; ///< as openTrainingData's spec
+  double weight = 1;
+};
+
+/// "SPEC" or "SPEC@WEIGHT" (WEIGHT a positive finite number, e.g. "synthetic:1@3" or
+/// "scenes/llff@0.5"); text that names an existing path is taken whole. Throws naming the text.
+DataSource parseDataSource(const std::string& text);
+
+/// Several sources mixed: every sample's scene comes from source k with probability weight_k /
+/// sum(weights), decided by the scene index the sampler draws (the mixture is endless), so a
+/// resumed run draws the same scenes. A synthetic source gets that index itself (its scenes
+/// are those of the same source alone); a folder source a hash of it modulo its scene count.
+/// One source is opened as openTrainingData(spec) (its weight does not matter). Throws naming
+/// the source on any problem, and when `sources` is empty.
+std::unique_ptr<TrainingData> openTrainingData(const std::vector<DataSource>& sources,
+                                               const DataOptions& options = {});
 
 /// Opens `spec` (see the header comment). Folder scenes are read lazily and kept in memory.
 /// Throws simpli::Error naming the path when it does not exist, holds no scene, or a subfolder

@@ -63,7 +63,8 @@ struct StepReport {
 };
 
 struct TrainerOptions {
-  std::string data;   ///< scene folder(s) or "synthetic[:seed]"
+  /// Scene folder(s), "synthetic[:seed]", or several of them mixed by weight (data.h).
+  std::vector<DataSource> data;
   std::string runDir; ///< the run folder
   bool resume = false;
   int64_t steps = -1;           ///< total steps of the run; -1 = the config's
