@@ -150,7 +150,7 @@ int runTrain(const TrainCliOptions& o) {
   training::TrainingMonitor monitor(o.out, v);
   training::Trainer* running = nullptr; // set below; checkpoints happen only in run()
   auto monitorStep = [&](int64_t step, bool force) {
-    if (const auto s = monitor.update(running->network(), step, force)) {
+    if (const auto s = monitor.update(running->validationNetwork(), step, force)) {
       char line[160];
       std::snprintf(line, sizeof line,
                     "validation at step %lld: %.2f dB / SSIM %.3f (nearest view %.2f dB)%s",

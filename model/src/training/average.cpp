@@ -24,6 +24,15 @@ void ParameterAverage::update(const network::ParameterStore& store) {
   }
 }
 
+void ParameterAverage::copyTo(network::ParameterStore& store) const {
+  if (store.names() != names_)
+    fail("ParameterAverage: the parameter store does not match the averaged one");
+  for (size_t i = 0; i < names_.size(); ++i) {
+    ocl::Tensor parameter = store.get(names_[i]); // a handle: writes reach the store's buffer
+    parameter.copyFromHost(averages_[i].toVector());
+  }
+}
+
 std::map<std::string, io::HostTensor<double>> ParameterAverage::values() const {
   std::map<std::string, io::HostTensor<double>> out;
   for (size_t i = 0; i < names_.size(); ++i) {

@@ -85,6 +85,15 @@ std::vector<TrainRandom::State> sampleStreams(uint64_t seed, int count) {
   return streams;
 }
 
+network::SimpliNetwork& Trainer::validationNetwork() {
+  if (!average_)
+    return *network_;
+  if (!averaged_)
+    averaged_ = std::make_unique<network::SimpliNetwork>(config_.network, config_.dtype, 0);
+  average_->copyTo(averaged_->parameters());
+  return *averaged_;
+}
+
 void Trainer::say(const std::string& message) const {
   if (options_.message && comm_->isRoot())
     options_.message(message);
@@ -201,10 +210,13 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
       CheckpointData c = readCheckpoint(*checkpoint, network_->parameters());
       adam_->importState(c.adam);
       resumeStreams(c, streamStates);
-      if (average_) {
-        if (c.average.empty())
-          fail(*checkpoint, ": no weights_ema.safetensors, but the run's ema_decay is ",
-               config_.emaDecay);
+      if (average_ && c.average.empty()) {
+        // ema_decay was turned on in the run's config.json after this checkpoint: the average
+        // starts at the checkpoint's weights, as a new run's starts at its initial ones.
+        average_ = std::make_unique<ParameterAverage>(network_->parameters(), config_.emaDecay);
+        say("moving average (ema_decay " + std::to_string(config_.emaDecay) + "): " + *checkpoint +
+            " has none; it starts at the checkpoint's weights");
+      } else if (average_) {
         average_->setValues(c.average, *checkpoint + "/weights_ema.safetensors");
       }
       step_ = c.step;

@@ -279,6 +279,64 @@ TEST(TrainTrainer, MovingAverageOfTheWeights) {
   // The averaged weights load like weights (config from their metadata).
   network::SimpliNetwork n(cfg.network, cfg.dtype);
   n.parameters().load((run / "weights_ema.safetensors").string());
+  // Validation scores the average (rounded to the network's dtype), not the last weights.
+  network::SimpliNetwork& scored = t.validationNetwork();
+  EXPECT_NE(&scored, &t.network());
+  for (size_t p = 0; p < names.size(); ++p) {
+    const std::vector<double> got = scored.parameters().get(names[p]).toVector();
+    const std::vector<double> expect = average.readF64(names[p]).data;
+    ASSERT_EQ(got.size(), expect.size());
+    for (size_t i = 0; i < got.size(); ++i)
+      ASSERT_EQ(got[i], double(float(expect[i]))) << names[p] << " " << i;
+  }
+  fs::remove_all(run);
+}
+
+// ema_decay turned on in a run's config.json between two sessions: the resumed run's average
+// starts at the checkpoint's weights w2, so after one more step it is d w2 + (1 - d) w3. Without
+// a moving average, validation scores the network itself.
+TEST(TrainTrainer, MovingAverageTurnedOnWhenResuming) {
+  TrainingConfig cfg = tinyConfig(2, 1);
+  cfg.sampling.maxViews = 2;
+  cfg.sampling.novelViews = 1;
+  const fs::path run = tempRun("ema_on");
+  std::vector<std::vector<double>> w2, w3;
+  auto weightsOf = [](network::SimpliNetwork& net) {
+    std::vector<std::vector<double>> w;
+    for (const std::string& n : net.parameters().names())
+      w.push_back(net.parameters().get(n).toVector());
+    return w;
+  };
+  {
+    Trainer t(&cfg, options(run));
+    t.run();
+    EXPECT_EQ(&t.validationNetwork(), &t.network());
+    w2 = weightsOf(t.network());
+  }
+  EXPECT_FALSE(fs::exists(run / "weights_ema.safetensors"));
+  TrainingConfig on = cfg;
+  on.emaDecay = 0.5;
+  { std::ofstream(run / "config.json") << toJson(on); }
+  TrainerOptions o = options(run);
+  o.resume = true;
+  o.steps = 3;
+  Trainer t(nullptr, o);
+  EXPECT_EQ(t.startStep(), 2);
+  t.run();
+  w3 = weightsOf(t.network());
+  const io::SafeTensorsReader average((run / "weights_ema.safetensors").string());
+  const std::vector<std::string>& names = t.network().parameters().names();
+  double worst = 0, moved = 0;
+  for (size_t p = 0; p < names.size(); ++p) {
+    const std::vector<double> got = average.readF64(names[p]).data;
+    ASSERT_EQ(got.size(), w2[p].size());
+    for (size_t i = 0; i < got.size(); ++i) {
+      worst = std::max(worst, std::abs(got[i] - (0.5 * w2[p][i] + 0.5 * w3[p][i])));
+      moved = std::max(moved, std::abs(w3[p][i] - w2[p][i]));
+    }
+  }
+  EXPECT_GT(moved, 1e-5);
+  EXPECT_LT(worst, 1e-12);
   fs::remove_all(run);
 }
 

@@ -24,6 +24,9 @@ public:
   double decay() const { return decay_; }
   /// One update from the current parameter values (same store layout as at construction).
   void update(const network::ParameterStore& store);
+  /// Writes the averages into `store`'s parameters (same layout as at construction), rounded to
+  /// its dtype: a network that computes with the averaged weights.
+  void copyTo(network::ParameterStore& store) const;
   /// The averages by parameter name, for writing.
   std::map<std::string, io::HostTensor<double>> values() const;
   /// Replaces the averages (on resume); every parameter must be present with its shape.

@@ -109,6 +109,9 @@ public:
   int64_t startStep() const { return startStep_; }
   const TrainingConfig& config() const { return config_; }
   network::SimpliNetwork& network() { return *network_; }
+  /// The network validation scores: with a moving average (ema_decay > 0, rank 0) a second
+  /// network holding the average's current values (refreshed on every call), else network().
+  network::SimpliNetwork& validationNetwork();
   /// The weights' moving average; null when ema_decay is 0, and on ranks other than 0.
   const ParameterAverage* average() const { return average_.get(); }
   /// Samples averaged per step: ranks x samples per rank (= sample streams).
@@ -156,6 +159,7 @@ private:
   TrainerOptions options_;
   std::unique_ptr<TrainingData> data_;
   std::unique_ptr<network::SimpliNetwork> network_;
+  std::unique_ptr<network::SimpliNetwork> averaged_; ///< validationNetwork()'s, made on first use
   std::unique_ptr<generator::Generator> generator_;
   std::unique_ptr<ocl::Adam> adam_;
   std::unique_ptr<ocl::ExponentialLr> schedule_;
