@@ -155,11 +155,11 @@ private:
 // 31-bit index, and every index maps to one source's scene).
 class MixedData : public TrainingData {
 public:
-  MixedData(std::vector<std::unique_ptr<TrainingData>> parts, std::vector<double> weights)
-      : parts_(std::move(parts)), weights_(std::move(weights)) {
-    const double total = std::accumulate(weights_.begin(), weights_.end(), 0.0);
+  MixedData(std::vector<std::unique_ptr<TrainingData>> parts, const std::vector<double>& weights)
+      : parts_(std::move(parts)) {
+    const double total = std::accumulate(weights.begin(), weights.end(), 0.0);
     double sum = 0;
-    for (double w : weights_)
+    for (double w : weights)
       cumulative_.push_back(sum += w / total);
     cumulative_.back() = 1;
   }
@@ -196,7 +196,7 @@ private:
     return {k, count == 0 ? index : synthetic::mix64(h) % count};
   }
   std::vector<std::unique_ptr<TrainingData>> parts_;
-  std::vector<double> weights_, cumulative_;
+  std::vector<double> cumulative_; ///< the sources' shares, summed: source k ends at [k]
 };
 
 } // namespace
@@ -230,7 +230,7 @@ std::unique_ptr<TrainingData> openTrainingData(const std::vector<DataSource>& so
     parts.push_back(openTrainingData(d.spec, o));
     weights.push_back(d.weight);
   }
-  return std::make_unique<MixedData>(std::move(parts), std::move(weights));
+  return std::make_unique<MixedData>(std::move(parts), weights);
 }
 
 void parseWidthHeight(const std::string& text, const std::string& what, int& width, int& height) {
