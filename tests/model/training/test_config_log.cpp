@@ -221,6 +221,32 @@ TEST(TrainConfig, ShippedWorldRecipe) {
   EXPECT_EQ(tiny.synthetic.textures, synthetic::TextureSet::Procedural);
 }
 
+// Every recipe in model/configs/training loads (its network file resolves) and round-trips;
+// the wide-planes recipes of the long run and of its MPI-only baseline differ only in the
+// network.
+TEST(TrainConfig, EveryShippedRecipeLoads) {
+  const std::filesystem::path dir = std::filesystem::path(SIMPLI_NETWORK_CONFIG_DIR) / "training";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".json")
+      continue;
+    SCOPED_TRACE(entry.path().string());
+    const TrainingConfig c = loadTrainingConfig(entry.path().string());
+    EXPECT_FALSE(c.network.name.empty());
+    EXPECT_GT(c.steps, 0);
+    EXPECT_EQ(toJson(parseTrainingConfig(toJson(c), "round trip", "")), toJson(c));
+    ++count;
+  }
+  EXPECT_GE(count, 10);
+  const TrainingConfig simpli = resolveTrainingConfig("tiny-world-wide-planes");
+  TrainingConfig mpi = resolveTrainingConfig("tiny-mpi-world-wide-planes");
+  EXPECT_TRUE(mpi.network.mpiOnly);
+  EXPECT_FALSE(simpli.network.mpiOnly);
+  EXPECT_GT(mpi.weight("mpi_depth"), 0);
+  mpi.network = simpli.network;
+  EXPECT_EQ(toJson(mpi), toJson(simpli));
+}
+
 TEST(TrainLog, AppendsAndCutsBackOnResume) {
   const fs::path dir = tempDir("log");
   const std::string path = (dir / "log.csv").string();
