@@ -179,9 +179,16 @@ std::string writeCheckpoint(const std::string& runDir, const network::ParameterS
       complete.emplace_back(s, e.path());
   }
   std::sort(complete.begin(), complete.end());
+  // A folder is renamed out of the step_* namespace before its files go: a process killed while
+  // removing it leaves a `.old-` temporary, never a step folder that lacks files.
   const size_t keep = size_t(std::max(1, options.keep));
-  for (size_t i = 0; i + keep < complete.size(); ++i)
-    fs::remove_all(complete[i].second, ec);
+  for (size_t i = 0; i + keep < complete.size(); ++i) {
+    const fs::path old = root / (".old-" + complete[i].second.filename().string());
+    fs::remove_all(old, ec);
+    fs::rename(complete[i].second, old, ec);
+    if (!ec)
+      fs::remove_all(old, ec);
+  }
   return final.string();
 }
 

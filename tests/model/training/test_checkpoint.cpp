@@ -141,6 +141,30 @@ TEST(TrainCheckpoint, FailedWriteKeepsLastGoodCheckpoint) {
   fs::remove_all(run);
 }
 
+// Pruning renames a checkpoint out of the step_* names before removing its files: a process
+// killed mid-removal leaves a `.old-` folder, which resuming ignores and the next write removes.
+TEST(TrainCheckpoint, HalfRemovedOldCheckpointIsIgnoredAndCleanedUp) {
+  const fs::path run = tempRun("prune");
+  Fixture f;
+  for (int s = 1; s <= 3; ++s)
+    writeCheckpoint(run.string(), f.store, f.data(s));
+  EXPECT_FALSE(fs::exists(checkpointDir(run.string(), 1)));
+  // What a SIGKILL during the removal of step 3's folder would leave (state.json only).
+  const fs::path halfRemoved = run / "checkpoints" / ".old-step_00000003";
+  fs::create_directories(halfRemoved);
+  fs::copy_file(fs::path(checkpointDir(run.string(), 3)) / "state.json",
+                halfRemoved / "state.json");
+  fs::remove_all(checkpointDir(run.string(), 3));
+  EXPECT_EQ(latestCheckpoint(run.string()).value_or(""), checkpointDir(run.string(), 2));
+  writeCheckpoint(run.string(), f.store, f.data(4));
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(run / "checkpoints"))
+    names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"step_00000002", "step_00000004"}));
+  fs::remove_all(run);
+}
+
 TEST(TrainCheckpoint, BadFilesNameFileAndField) {
   const fs::path run = tempRun("bad");
   Fixture f;
