@@ -122,8 +122,7 @@ void runEval(EvalCliOptions o) {
     fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
   if (o.scenes < 1)
     fail("--scenes ", o.scenes, ": must be >= 1");
-  if (!(o.inputScale > 0 && o.inputScale <= 2))
-    fail("--input-scale ", o.inputScale, ": must be in (0, 2]");
+  generator::checkInputScale(o.inputScale, "--input-scale");
   if (o.seed < 0)
     fail("--seed ", o.seed, ": must be >= 0");
   if (o.dtype != "f32" && o.dtype != "f64")
@@ -201,8 +200,8 @@ void runEval(EvalCliOptions o) {
   if (o.inputScale != 1.0)
     std::printf("  sources resized to %dx%d before the network (--input-scale %g); the MLI is "
                 "rendered into the novel views at %dx%d\n",
-                training::scaledSize(scene0.width(), o.inputScale),
-                training::scaledSize(scene0.height(), o.inputScale), o.inputScale, scene0.width(),
+                generator::scaledSize(scene0.width(), o.inputScale),
+                generator::scaledSize(scene0.height(), o.inputScale), o.inputScale, scene0.width(),
                 scene0.height());
   const bool several = networks.size() > 1;
   auto label = [&](size_t i) { return several ? "model " + std::to_string(i + 1) : "model"; };

@@ -31,16 +31,11 @@ int nearestSourceView(const std::vector<scene::Camera>& sources, const scene::Ca
   return best;
 }
 
-int scaledSize(int size, double scale) {
-  return std::max(16, static_cast<int>(std::lround(size * scale / 16.0)) * 16);
-}
-
 generator::GeneratorInput sampleInput(const TrainingSample& sample, double inputScale,
                                       ocl::Dtype dtype) {
-  if (!(inputScale > 0 && inputScale <= 2))
-    fail("input scale ", inputScale, ": must be in (0, 2]");
-  const int W = scaledSize(sample.reference.width, inputScale);
-  const int H = scaledSize(sample.reference.height, inputScale);
+  generator::checkInputScale(inputScale, "input scale");
+  const int W = generator::scaledSize(sample.reference.width, inputScale);
+  const int H = generator::scaledSize(sample.reference.height, inputScale);
   generator::GeneratorInput in;
   std::vector<io::Image> images;
   for (const io::Image& image : sample.sources)

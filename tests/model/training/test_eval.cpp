@@ -33,6 +33,7 @@ TrainingSample firstSample(TrainingData& data) {
 }
 
 TEST(TrainEval, ScaledSizeIsAMultipleOf16) {
+  using generator::scaledSize;
   EXPECT_EQ(scaledSize(512, 0.5), 256);
   EXPECT_EQ(scaledSize(384, 0.25), 96);
   EXPECT_EQ(scaledSize(504, 0.5), 256); // 252 rounds to the nearest multiple of 16

@@ -7,6 +7,7 @@
 // centre is closest to the target's, compared as it is. The samples depend only on the data and
 // the options (not on the network), so evaluations of several networks are paired view by view.
 #include "simpli/model/generator/generator.h"
+#include "simpli/model/generator/scene_input.h"
 #include "simpli/model/io/image.h"
 #include "simpli/model/metrics/image_quality.h"
 #include "simpli/model/network/network.h"
@@ -61,11 +62,8 @@ struct EvalResult {
   metrics::MeanStd build; ///< of buildMs
 };
 
-/// `size` x `scale` rounded to a multiple of 16 (the network's grid), at least 16.
-int scaledSize(int size, double scale);
-
 /// The generator's input for one sample: its sources and cameras, with the images resized to
-/// scaledSize(reference size, inputScale) when that differs from their size (relative
+/// generator::scaledSize(reference size, inputScale) when that differs from their size (relative
 /// intrinsics: only the cameras' sizes change). The reference camera follows the sources; the
 /// targets keep theirs. Throws simpli::Error for a scale outside (0, 2].
 generator::GeneratorInput sampleInput(const TrainingSample& sample, double inputScale,
