@@ -19,6 +19,14 @@ namespace {
 
 const std::string kScene = std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic/scene_00";
 
+// The bundled scene at 96x64.
+std::unique_ptr<TrainingData> bundledScene() {
+  DataOptions d;
+  d.width = 96;
+  d.height = 64;
+  return openTrainingData(kScene, d);
+}
+
 TrainingSample firstSample(TrainingData& data) {
   EvalOptions e;
   e.views = 3;
@@ -41,10 +49,7 @@ TEST(TrainEval, ScaledSizeIsAMultipleOf16) {
 }
 
 TEST(TrainEval, SampleInputResizesOnlyTheSources) {
-  DataOptions d;
-  d.width = 96;
-  d.height = 64;
-  auto data = openTrainingData(kScene, d);
+  auto data = bundledScene();
   const TrainingSample s = firstSample(*data);
   ASSERT_EQ(s.sources.size(), 3u);
 
@@ -81,10 +86,7 @@ TEST(TrainEval, SampleInputResizesOnlyTheSources) {
 }
 
 TEST(TrainEval, BadInputScaleIsNamed) {
-  DataOptions d;
-  d.width = 96;
-  d.height = 64;
-  auto data = openTrainingData(kScene, d);
+  auto data = bundledScene();
   const TrainingSample s = firstSample(*data);
   for (double bad : {0.0, -0.5, 2.5, std::numeric_limits<double>::quiet_NaN()})
     test::expectError([&] { sampleInput(s, bad, ocl::Dtype::F32); }, {"input scale", "(0, 2]"});
@@ -93,10 +95,7 @@ TEST(TrainEval, BadInputScaleIsNamed) {
 // Half the input resolution: the MLI is built at 48x32 and every score is of a render at the
 // targets' 96x64 (finite, and not the full-resolution scores).
 TEST(TrainEval, InputScaleScoresRendersAtTheTargetsSize) {
-  DataOptions d;
-  d.width = 96;
-  d.height = 64;
-  auto data = openTrainingData(kScene, d);
+  auto data = bundledScene();
   const TrainingConfig cfg =
       parseTrainingConfig(R"({"network": "tiny.json"})", "tiny-train", SIMPLI_NETWORK_CONFIG_DIR);
   network::SimpliNetwork net(cfg.network, ocl::Dtype::F32, 7);
