@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -34,7 +35,6 @@
 #include <iostream>
 #include <string>
 #include <thread>
-#include <utility>
 #include <vector>
 
 extern char** environ;
@@ -243,53 +243,59 @@ ocl::Tensor runCase(const ConvCase& c, const ocl::Tensor& x, const ocl::Tensor& 
                          : ocl::conv2d(x, w, ocl::Tensor(), 1, pad, mode);
 }
 
-// The fastest of the timed runs, in ms, of the forward and of the input gradient alone (the
-// backward of a convolution whose weight needs no gradient) on one path. The minimum, not the
-// median: on a machine shared with other jobs it is the figure that varies least between runs.
-std::pair<double, double> timeConvPath(const ConvCase& c, ocl::ConvPath path, int warmup,
-                                       int repeat) {
+// The fastest of the timed runs, in ms, of the forward, of the input gradient alone (the
+// backward of a convolution whose weight needs no gradient) and of the weight gradient alone,
+// on one path. The minimum, not the median: on a machine shared with other jobs it is the
+// figure that varies least between runs.
+std::array<double, 3> timeConvPath(const ConvCase& c, ocl::ConvPath path, int warmup, int repeat) {
   const ocl::ConvPath previous = ocl::setConvPath(path);
   auto x = ocl::Tensor::uniform(c.x, -1, 1, 21), w = ocl::Tensor::uniform(c.w, -1, 1, 22);
   auto& device = ocl::Device::current();
-  double forward = INFINITY, inputGrad = INFINITY;
+  std::array<double, 3> best = {INFINITY, INFINITY, INFINITY};
   for (int i = 0; i < warmup + repeat; ++i) {
     const auto t0 = Clock::now();
     runCase(c, x, w);
     device.finish();
     if (i >= warmup)
-      forward =
-          std::min(forward, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      best[0] =
+          std::min(best[0], std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
-  x.setRequiresGrad(true);
   ocl::GradMode::setEnabled(true);
-  for (int i = 0; i < warmup + repeat; ++i) {
-    const ocl::Tensor y = runCase(c, x, w);
-    const ocl::Tensor gy = ocl::Tensor::uniform(y.shape(), -1, 1, 23);
-    device.finish();
-    const auto t0 = Clock::now();
-    y.backward(gy);
-    device.finish();
-    if (i >= warmup)
-      inputGrad =
-          std::min(inputGrad, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    x.zeroGrad();
+  for (int pass = 1; pass <= 2; ++pass) {
+    ocl::Tensor& leaf = pass == 1 ? x : w;
+    leaf.setRequiresGrad(true);
+    for (int i = 0; i < warmup + repeat; ++i) {
+      const ocl::Tensor y = runCase(c, x, w);
+      const ocl::Tensor gy = ocl::Tensor::uniform(y.shape(), -1, 1, 23);
+      device.finish();
+      const auto t0 = Clock::now();
+      y.backward(gy);
+      device.finish();
+      if (i >= warmup)
+        best[pass] = std::min(best[pass],
+                              std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      leaf.zeroGrad();
+    }
+    leaf.setRequiresGrad(false);
   }
   ocl::GradMode::setEnabled(false);
   ocl::setConvPath(previous);
-  return {forward, inputGrad};
+  return best;
 }
 
 void benchConvPaths(const std::vector<ConvCase>& cases, int warmup, int repeat) {
   std::printf("\nconvolution paths: lowered (im2col / col2im + GEMM) vs direct, fastest of %d "
               "run(s) in ms; ratio = lowered / direct\n",
               repeat);
-  std::printf("%-44s %9s %9s %6s %9s %9s %6s\n", "x x w", "fwd low", "fwd dir", "ratio", "dx low",
-              "dx dir", "ratio");
+  std::printf("%-44s %8s %8s %5s %8s %8s %5s %8s %8s %5s\n", "x x w", "fwd low", "fwd dir", "ratio",
+              "dx low", "dx dir", "ratio", "dw low", "dw dir", "ratio");
   for (const auto& c : cases) {
-    const auto [fl, bl] = timeConvPath(c, ocl::ConvPath::Lowered, warmup, repeat);
-    const auto [fd, bd] = timeConvPath(c, ocl::ConvPath::Direct, warmup, repeat);
-    std::printf("%-44s %9.2f %9.2f %6.2f %9.2f %9.2f %6.2f\n", c.name().c_str(), fl, fd, fl / fd,
-                bl, bd, bl / bd);
+    const auto low = timeConvPath(c, ocl::ConvPath::Lowered, warmup, repeat);
+    const auto dir = timeConvPath(c, ocl::ConvPath::Direct, warmup, repeat);
+    std::printf("%-44s", c.name().c_str());
+    for (int i = 0; i < 3; ++i)
+      std::printf(" %8.2f %8.2f %5.2f", low[i], dir[i], low[i] / dir[i]);
+    std::printf("\n");
     std::fflush(stdout);
   }
 }

@@ -1,15 +1,18 @@
-// Direct convolutions for small channel counts: the forward and the input gradient computed
-// from the input (or the output gradient) and the weights, without conv.cl's column matrix,
-// which for C * KD * KH * KW of a few hundred costs more memory traffic than the GEMM's flops.
-// Every convolution is a 3-D one (a 2-D convolution has D = KD = 1); padding follows
-// source_index in conv.cl exactly (zero padding reads nothing outside, replicate padding reads
-// the edge sample, so in the input gradient an edge sample gathers every tap clamped onto it).
+// Direct convolutions for small channel counts: the forward, the input gradient and the weight
+// gradient computed from the input, the output gradient and the weights, without conv.cl's
+// column matrix, which for C * KD * KH * KW of a few hundred costs more memory traffic than the
+// GEMM's flops. Every convolution is a 3-D one (a 2-D convolution has D = KD = 1); padding
+// follows source_index in conv.cl exactly (zero padding reads nothing outside, replicate padding
+// reads the edge sample, so in the input gradient an edge sample gathers every tap clamped onto
+// it).
 //
-// One work item owns 8 consecutive positions along x of one row (d, h) for a block of BLOCK
-// channels (output channels in the forward, input channels in the input gradient), accumulated
-// as BLOCK REAL8 vectors. Vectors are written out because PoCL vectorises only innermost loops
-// and the per-item channel and tap loops hide the work-item loop from it (as gemm_skinny_m8).
-// Neighbouring work items take neighbouring x blocks of the same row.
+// In the forward and the input gradient one work item owns 8 consecutive positions along x of
+// one row (d, h) for a block of BLOCK channels (output channels in the forward, input channels
+// in the input gradient), accumulated as BLOCK REAL8 vectors. Vectors are written out because
+// PoCL vectorises only innermost loops and the per-item channel and tap loops hide the
+// work-item loop from it (as gemm_skinny_m8). Neighbouring work items take neighbouring x
+// blocks of the same row. The weight gradient (conv_direct_weight_grad, at the end) reduces
+// over the output positions instead and is described there.
 //
 // The weights are first regrouped (conv_direct_weights) so that the BLOCK weights one tap
 // multiplies are contiguous, zero past the last channel. Where all taps of a work item read
@@ -17,7 +20,7 @@
 // loads; the edges take load8 / gather8, one sample at a time.
 //
 // Compile-time parameters: BLOCK (1..32), so the accumulators are registers in unrolled loops;
-// KW, the kernel width, so the taps along x unroll.
+// KW, the kernel width, so the taps along x unroll; WG_BLOCK (below).
 
 #include "conv_index.h"
 
@@ -233,4 +236,79 @@ __kernel void conv_direct_input_grad(__global const REAL* gy, __global const REA
   for (int b = 0; b < BLOCK; ++b)
     if (c0 + b < C)
       store8(acc[b], valid, gx + ((long)(n * C + c0 + b) * D * H + row) * W + x0);
+}
+
+#ifndef WG_BLOCK
+#define WG_BLOCK 8 // output channels per work item of the weight gradient
+#endif
+
+// Weight gradient, partial sums over one part of the output rows: partial[s, o, c, i, j, l] =
+// sum over the rows (n, od, oh) of part s and all ow of gy[n, o, od, oh, ow] x[n, c, tap
+// (i, j, l) of (od, oh, ow)], for the WG_BLOCK output channels k WG_BLOCK .. of one (c, i, j).
+// A work item keeps KW x WG_BLOCK REAL8 accumulators (lanes: 8 consecutive ow) and per 8
+// outputs loads KW input vectors and WG_BLOCK output-gradient vectors for KW x WG_BLOCK
+// multiply-adds. Rows are split into `parts` contiguous ranges. Global size (parts,
+// C * KD * KH, ceil(O / WG_BLOCK)).
+__kernel void conv_direct_weight_grad(__global const REAL* x, __global const REAL* gy, const int N,
+                                      const int C, const int D, const int H, const int W,
+                                      const int O, const int KD, const int KH, const int SD,
+                                      const int SH, const int SW, const int PD, const int PH,
+                                      const int PW, const int Do, const int Ho, const int Wo,
+                                      const int replicate, const int parts,
+                                      __global REAL* partial) {
+  const int s = get_global_id(0), cij = get_global_id(1), k = get_global_id(2);
+  if (s >= parts || cij >= C * KD * KH || k * WG_BLOCK >= O)
+    return;
+  const int c = cij / (KD * KH), i = (cij / KH) % KD, j = cij % KH, o0 = k * WG_BLOCK;
+  const long plane = (long)Do * Ho * Wo;
+  const int rows = N * Do * Ho;
+  const int r0 = (int)((long)rows * s / parts), r1 = (int)((long)rows * (s + 1) / parts);
+  REAL8 acc[KW * WG_BLOCK];
+#pragma unroll
+  for (int a = 0; a < KW * WG_BLOCK; ++a)
+    acc[a] = (REAL8)(0);
+  for (int r = r0; r < r1; ++r) {
+    const int n = r / (Do * Ho), od = (r / Ho) % Do, oh = r % Ho;
+    const int z = source_index(od, i, SD, PD, D, replicate);
+    const int yy = source_index(oh, j, SH, PH, H, replicate);
+    if (z < 0 || yy < 0)
+      continue;
+    __global const REAL* in = x + (((long)(n * C + c) * D + z) * H + yy) * W;
+    __global const REAL* g = gy + (long)(n * O + o0) * plane + (od * Ho + oh) * Wo;
+    for (int ow0 = 0; ow0 < Wo; ow0 += 8) {
+      const int q0 = ow0 * SW - PW;
+      REAL8 xv[KW];
+      if (SW == 1 && q0 >= 0 && q0 + KW - 1 + 8 <= W) {
+#pragma unroll
+        for (int l = 0; l < KW; ++l)
+          xv[l] = vload8(0, in + q0 + l);
+      } else {
+#pragma unroll
+        for (int l = 0; l < KW; ++l)
+          xv[l] = load8(in, q0 + l, SW, W, replicate);
+      }
+      const int full = ow0 + 8 <= Wo;
+#pragma unroll
+      for (int b = 0; b < WG_BLOCK; ++b) {
+        // Channels past O read channel O - 1 (their sums are not stored); lanes past Wo read 0.
+        __global const REAL* gb = g + min(b, O - 1 - o0) * plane + ow0;
+        const REAL8 gv = full ? vload8(0, gb) : load8(gb, 0, 1, Wo - ow0, 0);
+#pragma unroll
+        for (int l = 0; l < KW; ++l)
+          acc[l * WG_BLOCK + b] += gv * xv[l];
+      }
+    }
+  }
+  const int taps = KD * KH * KW;
+  __global REAL* out = partial + (long)s * O * C * taps + c * taps + (i * KH + j) * KW;
+#pragma unroll
+  for (int b = 0; b < WG_BLOCK; ++b)
+    if (o0 + b < O) {
+#pragma unroll
+      for (int l = 0; l < KW; ++l) {
+        const REAL8 v = acc[l * WG_BLOCK + b];
+        const REAL4 h = v.lo + v.hi;
+        out[(long)(o0 + b) * C * taps + l] = (h.s0 + h.s1) + (h.s2 + h.s3);
+      }
+    }
 }

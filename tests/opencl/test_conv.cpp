@@ -386,17 +386,31 @@ bool launched(const std::vector<std::string>& names, const std::string& kernel) 
 
 TEST(Conv, AutomaticPathTakesTheDirectKernelsForSmallChannelCounts) {
   const bool wasEnabled = ocl::Profiler::enabled();
-  // 16 -> 16 channels, 3x3 (the small configs' convolutions): direct forward and input
-  // gradient, im2col only for the weight gradient, no col2im.
+  // 16 -> 16 channels, 3x3 (the small configs' convolutions): all three passes direct, no
+  // column matrix.
   const auto small = kernelsLaunched(
       {{1, 16, 6, 24}, {16, 16, 3, 3}, {1, 1, 1}, {1, 1, 0}, PaddingMode::Zeros, true});
   EXPECT_TRUE(launched(small, "conv_direct.conv_direct_forward"));
   EXPECT_TRUE(launched(small, "conv_direct.conv_direct_input_grad"));
+  EXPECT_TRUE(launched(small, "conv_direct.conv_direct_weight_grad"));
+  EXPECT_FALSE(launched(small, "conv.im2col3d"));
   EXPECT_FALSE(launched(small, "conv.col2im3d"));
-  // 128 -> 128 channels (the official configs' widths): the lowered path.
-  const auto wide = kernelsLaunched(
-      {{1, 128, 4, 8}, {128, 128, 3, 3}, {1, 1, 1}, {1, 1, 0}, PaddingMode::Zeros, false});
-  EXPECT_FALSE(launched(wide, "conv_direct.conv_direct_forward"));
-  EXPECT_TRUE(launched(wide, "conv.col2im3d"));
+  // 64 input channels: the input gradient goes lowered, the forward and weight gradient direct.
+  const auto mixed = kernelsLaunched(
+      {{1, 64, 4, 8}, {16, 64, 3, 3}, {1, 1, 1}, {1, 1, 0}, PaddingMode::Zeros, false});
+  EXPECT_TRUE(launched(mixed, "conv_direct.conv_direct_forward"));
+  EXPECT_TRUE(launched(mixed, "conv_direct.conv_direct_weight_grad"));
+  EXPECT_TRUE(launched(mixed, "conv.col2im3d"));
+  // 128 -> 128 channels (the official configs' widths) and x stride 2: the lowered path.
+  for (const ConvSpec& s :
+       {ConvSpec{{1, 128, 4, 8}, {128, 128, 3, 3}, {1, 1, 1}, {1, 1, 0}, PaddingMode::Zeros, false},
+        ConvSpec{{1, 8, 6, 16}, {8, 8, 3, 3}, {1, 2, 1}, {1, 1, 0}, PaddingMode::Zeros, false}}) {
+    SCOPED_TRACE(describe(s));
+    const auto wide = kernelsLaunched(s);
+    EXPECT_FALSE(launched(wide, "conv_direct.conv_direct_forward"));
+    EXPECT_FALSE(launched(wide, "conv_direct.conv_direct_weight_grad"));
+    EXPECT_TRUE(launched(wide, "conv.im2col3d"));
+    EXPECT_TRUE(launched(wide, "conv.col2im3d"));
+  }
   ocl::Profiler::setEnabled(wasEnabled);
 }
