@@ -258,9 +258,14 @@ Launch& directGeometryArgs(Launch& launch, const Geometry& g) {
   return launch.arg(g.replicate ? 1 : 0);
 }
 
+// Output channels per work item of the direct weight gradient (WG_BLOCK): KW x 8 REAL8
+// accumulators, 24 of the 32 vector registers for 3-wide kernels.
+constexpr int64_t kWeightGradBlock = 8;
+
 // Build options of the direct kernels for blocks of `block` channels.
 std::string directOptions(const Geometry& g, int64_t block) {
-  return "-DBLOCK=" + std::to_string(block) + " -DKW=" + std::to_string(g.KW);
+  return "-DBLOCK=" + std::to_string(block) + " -DKW=" + std::to_string(g.KW) +
+         " -DWG_BLOCK=" + std::to_string(kWeightGradBlock);
 }
 
 // The weights regrouped for the kernels (conv_direct_weights), blocked along the output
@@ -307,9 +312,11 @@ Tensor directInputGrad(const Geometry& g, const Tensor& w, const Tensor& gy, con
 }
 
 // Weight gradient: partial sums over parts of the output rows (conv_direct_weight_grad),
-// then their sum. Enough parts for ~512 work items (each a (c, i, j) and 8 output channels).
+// then their sum. Enough parts for ~512 work items (each a (c, i, j) and kWeightGradBlock
+// output channels), so that both cores stay busy with few channels.
 Tensor directWeightGrad(const Geometry& g, const Tensor& x, const Tensor& gy, const Shape& wShape) {
-  const int64_t taps = g.KD * g.KH * g.KW, oBlocks = (g.O + 7) / 8;
+  const int64_t taps = g.KD * g.KH * g.KW;
+  const int64_t oBlocks = (g.O + kWeightGradBlock - 1) / kWeightGradBlock;
   const int64_t items = g.C * g.KD * g.KH * oBlocks, rows = g.N * g.Do * g.Ho;
   const int64_t parts =
       std::clamp<int64_t>((512 + items - 1) / items, 1, std::max<int64_t>(rows, 1));
