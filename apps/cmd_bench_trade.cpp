@@ -114,10 +114,6 @@ std::string formatNumber(double v) {
   return buf;
 }
 
-int scaledSize(int size, double scale) {
-  return std::max(16, static_cast<int>(std::lround(size * scale / 16.0)) * 16);
-}
-
 // ---- networks and forward passes -------------------------------------------------------
 
 struct NetworkSpec {
@@ -186,22 +182,8 @@ std::vector<Built> buildAll(network::SimpliNetwork& net,
   std::vector<Built> out;
   for (std::size_t s = 0; s < samples.size(); ++s) {
     const training::TrainingSample& sample = samples[s];
-    const int W = scaledSize(sample.reference.width, p.scale);
-    const int H = scaledSize(sample.reference.height, p.scale);
-    generator::GeneratorInput in;
-    std::vector<io::Image> images;
-    for (const io::Image& image : sample.sources)
-      images.push_back(image.width == W && image.height == H ? image
-                                                             : io::resizeImage(image, W, H));
-    in.images = training::imagesToTensor(images, net.parameters().dtype());
-    in.sources = sample.sourceCameras;
-    for (scene::Camera& c : in.sources) { // relative intrinsics: only the size changes
-      c.width = W;
-      c.height = H;
-    }
-    in.reference = sample.reference;
-    in.reference.width = W;
-    in.reference.height = H;
+    const generator::GeneratorInput in =
+        training::sampleInput(sample, p.scale, net.parameters().dtype());
     if (s == 0) { // untimed: PoCL compiles kernels and the pool fills on first use
       generator.forward(in, go);
       ocl::Device::current().finish();

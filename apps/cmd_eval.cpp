@@ -19,9 +19,9 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -33,6 +33,7 @@ struct EvalCliOptions {
   std::vector<std::string> weights;
   std::string data, config, size, device, dtype = "f32", protocol = "none", out;
   int repeats = 1, views = 4, novel = 4, window = 0, scenes = 1, corrections = -1, factor = 0;
+  double inputScale = 1.0;
   int64_t seed = 0;
   // Which of the protocol's settings the user gave explicitly (those win over the protocol).
   bool givenSize = false, givenViews = false, givenNovel = false, givenRepeats = false,
@@ -97,8 +98,8 @@ void writeViewsCsv(const std::string& path, const std::vector<std::string>& weig
       const training::EvalView& w = r.views[v];
       csv << n + 1 << ',' << csvQuote(weights[n]) << ',' << w.scene << ',' << w.sample << ','
           << w.targetFrame << ',' << frameList(w.sourceFrames) << ',' << w.nearestFrame << ','
-          << std::fixed << r.model[v].psnr << ',' << r.model[v].ssim << ','
-          << r.baseline[v].psnr << ',' << r.baseline[v].ssim << std::defaultfloat << '\n';
+          << std::fixed << r.model[v].psnr << ',' << r.model[v].ssim << ',' << r.baseline[v].psnr
+          << ',' << r.baseline[v].ssim << std::defaultfloat << '\n';
     }
   }
   const std::string text = csv.str();
@@ -121,6 +122,7 @@ void runEval(EvalCliOptions o) {
     fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
   if (o.scenes < 1)
     fail("--scenes ", o.scenes, ": must be >= 1");
+  generator::checkInputScale(o.inputScale, "--input-scale");
   if (o.seed < 0)
     fail("--seed ", o.seed, ": must be >= 0");
   if (o.dtype != "f32" && o.dtype != "f64")
@@ -162,6 +164,7 @@ void runEval(EvalCliOptions o) {
   e.scenes = o.scenes;
   e.seed = uint64_t(o.seed);
   e.corrections = o.corrections;
+  e.inputScale = o.inputScale;
   const uint64_t scenes = source->sceneCount() > 0 ? source->sceneCount() : uint64_t(o.scenes);
   const int64_t perNetwork = int64_t(scenes) * o.repeats;
   ProgressBar bar("eval", perNetwork * int64_t(networks.size()));
@@ -179,8 +182,8 @@ void runEval(EvalCliOptions o) {
                         (std::filesystem::path(o.out) / name).string());
     };
     results.push_back(training::evaluate(
-        *networks[i], *source, e, [&](int done, int) { bar.update(int64_t(i) * perNetwork + done); },
-        picture));
+        *networks[i], *source, e,
+        [&](int done, int) { bar.update(int64_t(i) * perNetwork + done); }, picture));
   }
   bar.finish();
   if (!o.out.empty())
@@ -194,6 +197,12 @@ void runEval(EvalCliOptions o) {
               scene0.imagesDir.empty() ? "" : (", images from " + scene0.imagesDir).c_str(),
               scene0.width(), scene0.height(), o.views, o.repeats, static_cast<long long>(o.seed),
               o.protocol == "rff" ? "; protocol rff" : "");
+  if (o.inputScale != 1.0)
+    std::printf("  sources resized to %dx%d before the network (--input-scale %g); the MLI is "
+                "rendered into the novel views at %dx%d\n",
+                generator::scaledSize(scene0.width(), o.inputScale),
+                generator::scaledSize(scene0.height(), o.inputScale), o.inputScale, scene0.width(),
+                scene0.height());
   const bool several = networks.size() > 1;
   auto label = [&](size_t i) { return several ? "model " + std::to_string(i + 1) : "model"; };
   for (size_t i = 0; i < networks.size(); ++i) {
@@ -266,6 +275,10 @@ void addEvalCommand(CLI::App& app) {
   cmd->add_option("--scenes", opts->scenes, "Scenes to draw from synthetic data")
       ->capture_default_str();
   cmd->add_option("--seed", opts->seed, "Sampling seed")->capture_default_str();
+  cmd->add_option("--input-scale", opts->inputScale,
+                  "Resize the sources by this factor (0, 2] before the network; the MLI is "
+                  "rendered into the novel views at their size")
+      ->capture_default_str();
   cmd->add_option("--corrections", opts->corrections, "MLI corrections to run (-1 = all)")
       ->capture_default_str();
   cmd->add_option("--size", opts->size, "Resize the images to WIDTHxHEIGHT (multiples of 16)");

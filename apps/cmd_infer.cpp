@@ -139,6 +139,7 @@ int runInfer(const InferOptions& o) {
   }
   if (o.corrections < -1)
     fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
+  generator::checkInputScale(o.inputScale, "--input-scale");
   if (o.out.empty())
     fail("--out: an output folder is required");
   if (isSceneCollection(o.scene))
@@ -180,6 +181,7 @@ void loadInferNetwork(const InferOptions& o, InferNetwork& net) {
     fail("--corrections ", o.corrections, ": config '", config.name, "' has ",
          config.mliCorrections(), " corrections");
   net.build.corrections = o.corrections;
+  net.build.inputScale = o.inputScale;
   net.build.keepOutput = true; // for --render-views
   net.build.dropEmptyBelow = layersThreshold(o.layers, config);
   net.loaded = &loaded;
@@ -222,6 +224,10 @@ SceneInference inferScene(const InferOptions& o, const std::string& scenePath,
   for (int v : views)
     list += (list.empty() ? "" : ",") + std::to_string(v);
   report(verbose, "sources    %zu views: %s\n", views.size(), list.c_str());
+  if (o.inputScale != 1.0)
+    report(verbose, "input      resized to %d x %d before the network (--input-scale %g)\n",
+           generator::scaledSize(W, o.inputScale), generator::scaledSize(H, o.inputScale),
+           o.inputScale);
   report(verbose, "network    config %s (%s), %lld parameters\n", config.name.c_str(),
          net.loaded->configSource.c_str(), static_cast<long long>(network.parameters().count()));
   report(verbose, "weights    %s\n", net.loaded->weightsDescription.c_str());
@@ -379,6 +385,10 @@ void addInferCommand(CLI::App& app) {
                   "source views; says which) or N (check that the network has N layers)");
   cmd->add_option("--corrections", o->corrections,
                   "MLI correction steps to run (default: all of the config's)");
+  cmd->add_option("--input-scale", o->inputScale,
+                  "Resize the sources by this factor (0, 2] before the network: the MLI is built "
+                  "at that size (the shipped network holds best near 256x192, README)")
+      ->capture_default_str();
   CLI::Option* renderViews =
       cmd->add_option(
              "--render-views", o->renderViews,

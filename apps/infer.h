@@ -14,6 +14,7 @@ struct InferOptions {
   std::string scene, weights, config, layers = "all", device, out;
   std::vector<int> views, renderViews;
   int corrections = -1;
+  double inputScale = 1.0; ///< sources resized by this before the network (the MLI's size)
   int64_t initRandom = -1; ///< >= 0: random weights with this seed
 };
 
@@ -26,7 +27,7 @@ struct InferNetwork {
 };
 
 /// Loads the network `o` names (once: later calls return at once) and checks the options that
-/// concern it (--corrections, --layers). Throws simpli::Error.
+/// concern it (--corrections, --layers, --input-scale). Throws simpli::Error.
 void loadInferNetwork(const InferOptions& o, InferNetwork& net);
 
 /// What inferring one scene did.

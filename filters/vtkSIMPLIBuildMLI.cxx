@@ -257,6 +257,7 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
                                  ? simpli::generator::DepthRangeSource::Scene
                                  : simpli::generator::DepthRangeSource::Config;
         options.corrections = this->CorrectionSteps;
+        options.inputScale = this->InputScale;
         const Progress pass = progress.range(0.2, 0.85);
         options.progress = [&pass](const std::string&, int done, int total) {
           return pass(static_cast<double>(done) / total);
@@ -316,6 +317,7 @@ void vtkSIMPLIBuildMLI::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "MeshTolerance: " << this->MeshTolerance << "\n";
   os << indent << "NumberOfPlanes: " << this->NumberOfPlanes << "\n";
   os << indent << "CorrectionSteps: " << this->CorrectionSteps << "\n";
+  os << indent << "InputScale: " << this->InputScale << "\n";
   os << indent << "SourceViews: " << (this->SourceViews ? this->SourceViews : "(all)") << "\n";
   os << indent << "DepthRange: " << (this->DepthRange == DEPTH_RANGE_SCENE ? "Scene" : "Config")
      << "\n";

@@ -166,6 +166,17 @@ public:
 
   ///@{
   /**
+   * The source images are resized by this factor (to multiples of 16) before the network, and
+   * the MLI is built at that size: 1 = as they are (default). A network holds best near the
+   * size it was trained at (the shipped one: 0.5 for 512x384 photos, README "Input size").
+   * Clamped to [1/64, 2].
+   */
+  vtkSetClampMacro(InputScale, double, 1.0 / 64, 2.0);
+  vtkGetMacro(InputScale, double);
+  ///@}
+
+  ///@{
+  /**
    * Source views, comma-separated 0-based indices ("0,2,5"); empty = every view (default).
    */
   vtkSetStringMacro(SourceViews);
@@ -237,6 +248,7 @@ protected:
   double MeshTolerance = 1.0;
   int NumberOfPlanes = 0;
   int CorrectionSteps = -1;
+  double InputScale = 1.0;
   char* SourceViews = nullptr;
   int DepthRange = DEPTH_RANGE_CONFIG;
   char* Device = nullptr;

@@ -54,7 +54,7 @@ scene = SIMPLISceneReader(FileName=args.scene)  # noqa: F821  (defined by LoadPl
 build = SIMPLIBuildMLI(Input=OutputPort(scene, 0))  # noqa: F821
 expected = {"Input", "SceneFileName", "WeightsFile", "Config", "SourceViews", "DropEmptyLayers",
             "EmptyLayerThreshold", "DropTransparentTriangles", "DepthRange", "CorrectionSteps",
-            "NumberOfPlanes", "Device", "RandomSeed"}
+            "NumberOfPlanes", "InputScale", "Device", "RandomSeed"}
 if not expected <= set(build.ListProperties()):
     fail(f"Build MLI lacks {sorted(expected - set(build.ListProperties()))}")
 if not in_simpli_menu(build):
@@ -93,6 +93,14 @@ if from_folder.GetDataInformation().GetNumberOfPoints() != 4 * 96 * 64:
     fail(f"Build MLI from the folder: {from_folder.GetDataInformation().GetNumberOfPoints()} "
          "points, expected 4 layers of 96 x 64 (no corrections: the level-1 resolution)")
 print("Build MLI from Scene File Name OK")
+# Input Scale 0.5: the sources (and so the MLI) at 96 x 64, with every correction.
+from_folder.CorrectionSteps = -1
+from_folder.InputScale = 0.5
+from_folder.UpdatePipeline()
+if from_folder.GetDataInformation().GetNumberOfPoints() != 4 * 96 * 64:
+    fail(f"Build MLI at Input Scale 0.5: {from_folder.GetDataInformation().GetNumberOfPoints()} "
+         "points, expected 4 layers of 96 x 64")
+print("Build MLI at Input Scale 0.5 OK")
 
 # --- the layers in a render view, RGBA directly (MapScalars off) ------------------------------
 png = os.path.join(args.workdir, "build_mli.png")

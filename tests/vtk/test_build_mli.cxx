@@ -355,6 +355,27 @@ TEST(BuildMLI, FewerCorrectionsAndTheSceneDepthRange) {
   EXPECT_LT(hi, 100.0 * 0.5); // not the config's 1..100
 }
 
+// InputScale 0.5: the 192x128 sources go in at 96x64 and so does the MLI (one point per texel);
+// back at 1 the output is the direct pass again (the cached pass is not reused across scales).
+TEST(BuildMLI, InputScaleBuildsTheMLIAtThatSize) {
+  vtkNew<vtkSIMPLIBuildMLI> f;
+  configure(f);
+  f->SetInputScale(0.5);
+  vtkNew<ErrorRecorder> errors;
+  ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();
+  vtkPolyData* half = layer(outputOf(f), 0);
+  ASSERT_NE(half, nullptr);
+  EXPECT_EQ(half->GetNumberOfPoints(), 96 * 64);
+  f->SetInputScale(1.0);
+  ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();
+  vtkPolyData* full = layer(outputOf(f), 0);
+  ASSERT_NE(full, nullptr);
+  EXPECT_EQ(full->GetNumberOfPoints(), 192 * 128);
+  EXPECT_EQ(layerDifference(full, direct().mli, 0), 0.0);
+  f->SetInputScale(100.0); // clamped, like every VTK range property
+  EXPECT_EQ(f->GetInputScale(), 2.0);
+}
+
 TEST(BuildMLI, ANewSeedReloadsTheNetwork) {
   vtkNew<vtkSIMPLIBuildMLI> f;
   configure(f);

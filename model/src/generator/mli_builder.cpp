@@ -91,6 +91,7 @@ MLIBuild MLIBuilder::build(const scene::Scene& scene, const MLIBuildOptions& opt
   SceneInputOptions inputOptions;
   inputOptions.views = result.views;
   inputOptions.depthRange = options.depthRange;
+  inputOptions.inputScale = options.inputScale;
   result.input = sceneInput(scene, inputOptions);
 
   const int corrections =

@@ -9,8 +9,9 @@
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/device.h"
 
+#include <algorithm>
 #include <chrono>
-
+#include <cmath>
 #include <limits>
 
 namespace simpli::training {
@@ -28,6 +29,27 @@ int nearestSourceView(const std::vector<scene::Camera>& sources, const scene::Ca
     }
   }
   return best;
+}
+
+generator::GeneratorInput sampleInput(const TrainingSample& sample, double inputScale,
+                                      ocl::Dtype dtype) {
+  generator::checkInputScale(inputScale, "input scale");
+  const int W = generator::scaledSize(sample.reference.width, inputScale);
+  const int H = generator::scaledSize(sample.reference.height, inputScale);
+  generator::GeneratorInput in;
+  std::vector<io::Image> images;
+  for (const io::Image& image : sample.sources)
+    images.push_back(image.width == W && image.height == H ? image : io::resizeImage(image, W, H));
+  in.images = imagesToTensor(images, dtype);
+  in.sources = sample.sourceCameras;
+  for (scene::Camera& c : in.sources) { // relative intrinsics: only the size changes
+    c.width = W;
+    c.height = H;
+  }
+  in.reference = sample.reference;
+  in.reference.width = W;
+  in.reference.height = H;
+  return in;
 }
 
 io::Image renderedImage(const ocl::Tensor& t, const char* what) {
@@ -76,10 +98,7 @@ EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const E
   EvalResult result;
   int done = 0;
   forEachEvalSample(data, o, [&](const TrainingSample& s, uint64_t si, int r) {
-    generator::GeneratorInput in;
-    in.images = imagesToTensor(s.sources, network.parameters().dtype());
-    in.sources = s.sourceCameras;
-    in.reference = s.reference;
+    const generator::GeneratorInput in = sampleInput(s, o.inputScale, network.parameters().dtype());
     if (done == 0 && o.warmUp) { // warm-up: PoCL compiles kernels on first use, which is not
                                  // build time
       generator.forward(in, go);

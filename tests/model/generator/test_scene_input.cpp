@@ -4,6 +4,7 @@
 
 #include "simpli/error.h"
 #include "simpli/model/generator/scene_input.h"
+#include "simpli/model/io/image.h"
 #include "simpli/model/scene/readers.h"
 #include "simpli/model/scene/reference_camera.h"
 
@@ -68,4 +69,45 @@ TEST(SceneInput, BadViewListsNameTheSceneAndTheView) {
   scene::Scene empty;
   empty.root = "/nowhere/empty";
   test::expectError([&] { generator::sceneInput(empty); }, {"/nowhere/empty", "no views"});
+}
+
+// InputScale: the images are io::resizeImage's at scaledSize(size, scale), the cameras keep their
+// pose and relative intrinsics with the new size, and so does the reference camera.
+TEST(SceneInput, InputScaleResizesTheImagesAndTheCameras) {
+  const scene::Scene& scene = bundled();
+  generator::SceneInputOptions options;
+  options.views = {1, 3};
+  const generator::GeneratorInput full = generator::sceneInput(scene, options);
+  options.inputScale = 0.5;
+  const generator::GeneratorInput half = generator::sceneInput(scene, options);
+  const int h = generator::scaledSize(scene.height(), 0.5);
+  const int w = generator::scaledSize(scene.width(), 0.5);
+  EXPECT_EQ(w, scene.width() / 2); // 192x128: already multiples of 32
+  ASSERT_EQ(half.images.shape(), (ocl::Shape{2, 3, h, w}));
+  const std::vector<float> pixels = half.images.toVectorF32();
+  for (std::size_t k = 0; k < 2; ++k) {
+    const io::Image small =
+        io::resizeImage(scene.views[static_cast<std::size_t>(options.views[k])].image, w, h);
+    EXPECT_TRUE(std::equal(small.data.begin(), small.data.end(),
+                           pixels.begin() + static_cast<std::ptrdiff_t>(k * small.data.size())))
+        << k;
+    EXPECT_EQ(half.sources[k].width, w);
+    EXPECT_EQ(half.sources[k].height, h);
+    EXPECT_EQ(half.sources[k].relativeK(), full.sources[k].relativeK());
+    EXPECT_EQ(half.sources[k].R, full.sources[k].R);
+    EXPECT_EQ(half.sources[k].t, full.sources[k].t);
+  }
+  EXPECT_EQ(half.reference.width, w);
+  EXPECT_EQ(half.reference.height, h);
+  EXPECT_TRUE(half.reference.R.isApprox(full.reference.R));
+  EXPECT_EQ(half.reference.relativeK(), full.reference.relativeK());
+  // 1 leaves them as they are; a non-multiple of 16 rounds to the nearest one.
+  EXPECT_EQ(generator::scaledSize(378, 0.5), 192);
+  for (double bad : {0.0, -1.0, 2.5})
+    test::expectError(
+        [&] {
+          options.inputScale = bad;
+          generator::sceneInput(scene, options);
+        },
+        {"input scale", "(0, 2]"});
 }

@@ -20,10 +20,20 @@ struct SceneInputOptions {
   std::vector<int> views; ///< source view indices; empty = every view
   DepthRangeSource depthRange = DepthRangeSource::Config;
   ocl::Dtype dtype = ocl::Dtype::F32;
+  /// The images are resized to scaledSize(size, inputScale) before the network (the MLI is
+  /// built at that size); 1 = as they are. A network holds best near the size it was trained
+  /// at (README, "Input size").
+  double inputScale = 1.0;
 };
 
+/// `size` x `scale` rounded to a multiple of 16 (the network's grid), at least 16.
+int scaledSize(int size, double scale);
+
+/// Throws simpli::Error naming `what` unless 0 < scale <= 2.
+void checkInputScale(double scale, const std::string& what);
+
 /// Throws simpli::Error naming the scene and the index for a view out of range, a repeated
-/// view, an empty scene or views of different sizes.
+/// view, an empty scene, views of different sizes or an input scale outside (0, 2].
 GeneratorInput sceneInput(const scene::Scene& scene, const SceneInputOptions& options = {});
 
 /// The views sceneInput uses (options.views, or all), validated as sceneInput does.

@@ -6,6 +6,8 @@
 // The same samples are scored for the nearest-source-view baseline: the source image whose camera
 // centre is closest to the target's, compared as it is. The samples depend only on the data and
 // the options (not on the network), so evaluations of several networks are paired view by view.
+#include "simpli/model/generator/generator.h"
+#include "simpli/model/generator/scene_input.h"
 #include "simpli/model/io/image.h"
 #include "simpli/model/metrics/image_quality.h"
 #include "simpli/model/network/network.h"
@@ -29,6 +31,9 @@ struct EvalOptions {
   int corrections = -1;
   raster::RasterSettings raster;
   double keptArea = 0.9;
+  /// The sources are resized by this factor before the network (sampleInput); the MLI is built
+  /// at that size and rendered into the targets at theirs. 1 = the sources as they are.
+  double inputScale = 1.0;
   /// One untimed forward pass before the first timed one (PoCL compiles kernels on first use);
   /// off where build time is not reported (validation during training).
   bool warmUp = true;
@@ -56,6 +61,13 @@ struct EvalResult {
   std::vector<double> buildMs;
   metrics::MeanStd build; ///< of buildMs
 };
+
+/// The generator's input for one sample: its sources and cameras, with the images resized to
+/// generator::scaledSize(reference size, inputScale) when that differs from their size (relative
+/// intrinsics: only the cameras' sizes change). The reference camera follows the sources; the
+/// targets keep theirs. Throws simpli::Error for a scale outside (0, 2].
+generator::GeneratorInput sampleInput(const TrainingSample& sample, double inputScale,
+                                      ocl::Dtype dtype);
 
 /// Index of the camera in `sources` whose centre is closest to `target`'s (first on ties).
 int nearestSourceView(const std::vector<scene::Camera>& sources, const scene::Camera& target);
