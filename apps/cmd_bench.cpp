@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -175,17 +176,17 @@ Row benchGemm(int64_t m, int64_t n, int64_t k, int warmup, int repeat, bool tran
                      .medianMs;
   const auto ha = a.toVectorF32(), hb = b.toVectorF32();
   std::vector<float> hc(static_cast<std::size_t>(m * n));
-  row.blasMs = timeIt(
-                   [&] {
-                     cblas_sgemm(CblasRowMajor, CblasNoTrans,
-                                 transposedB ? CblasTrans : CblasNoTrans, static_cast<int>(m),
-                                 static_cast<int>(n), static_cast<int>(k), 1.0f, ha.data(),
-                                 static_cast<int>(k), hb.data(),
-                                 static_cast<int>(transposedB ? k : n), 0.0f, hc.data(),
-                                 static_cast<int>(n));
-                   },
-                   warmup, repeat)
-                   .medianMs;
+  row.blasMs =
+      timeIt(
+          [&] {
+            cblas_sgemm(CblasRowMajor, CblasNoTrans, transposedB ? CblasTrans : CblasNoTrans,
+                        static_cast<int>(m), static_cast<int>(n), static_cast<int>(k), 1.0f,
+                        ha.data(), static_cast<int>(k), hb.data(),
+                        static_cast<int>(transposedB ? k : n), 0.0f, hc.data(),
+                        static_cast<int>(n));
+          },
+          warmup, repeat)
+          .medianMs;
   row.difference = maxRelativeDifference(c.toVectorF32(), hc);
   return row;
 }
@@ -225,6 +226,107 @@ Row benchConv(const ConvShape& s, int warmup, int repeat, int threads) {
   return row;
 }
 
+// ---- the convolution paths: lowered (im2col / col2im + GEMM) against direct ------------------
+
+struct ConvCase {
+  ocl::Shape x, w; // [N, C, H, W] / [O, C, k, k] or [N, C, D, H, W] / [O, C, k, k, k]
+  bool replicate;
+  std::string name() const {
+    return ocl::toString(x) + " x " + ocl::toString(w) + (replicate ? " rep" : " zero");
+  }
+};
+
+ocl::Tensor runCase(const ConvCase& c, const ocl::Tensor& x, const ocl::Tensor& w) {
+  const auto mode = c.replicate ? ocl::PaddingMode::Replicate : ocl::PaddingMode::Zeros;
+  const int pad = static_cast<int>(c.w.back() / 2);
+  return c.x.size() == 5 ? ocl::conv3d(x, w, ocl::Tensor(), 1, pad, mode)
+                         : ocl::conv2d(x, w, ocl::Tensor(), 1, pad, mode);
+}
+
+// The fastest of the timed runs, in ms, of the forward, of the input gradient alone (the
+// backward of a convolution whose weight needs no gradient) and of the weight gradient alone,
+// on one path. The minimum, not the median: on a machine shared with other jobs it is the
+// figure that varies least between runs.
+std::array<double, 3> timeConvPath(const ConvCase& c, ocl::ConvPath path, int warmup, int repeat) {
+  const ocl::ConvPath previous = ocl::setConvPath(path);
+  auto x = ocl::Tensor::uniform(c.x, -1, 1, 21), w = ocl::Tensor::uniform(c.w, -1, 1, 22);
+  auto& device = ocl::Device::current();
+  std::array<double, 3> best = {INFINITY, INFINITY, INFINITY};
+  for (int i = 0; i < warmup + repeat; ++i) {
+    const auto t0 = Clock::now();
+    runCase(c, x, w);
+    device.finish();
+    if (i >= warmup)
+      best[0] =
+          std::min(best[0], std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  ocl::GradMode::setEnabled(true);
+  for (int pass = 1; pass <= 2; ++pass) {
+    ocl::Tensor& leaf = pass == 1 ? x : w;
+    leaf.setRequiresGrad(true);
+    for (int i = 0; i < warmup + repeat; ++i) {
+      const ocl::Tensor y = runCase(c, x, w);
+      const ocl::Tensor gy = ocl::Tensor::uniform(y.shape(), -1, 1, 23);
+      device.finish();
+      const auto t0 = Clock::now();
+      y.backward(gy);
+      device.finish();
+      if (i >= warmup)
+        best[pass] = std::min(best[pass],
+                              std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      leaf.zeroGrad();
+    }
+    leaf.setRequiresGrad(false);
+  }
+  ocl::GradMode::setEnabled(false);
+  ocl::setConvPath(previous);
+  return best;
+}
+
+void benchConvPaths(const std::vector<ConvCase>& cases, int warmup, int repeat) {
+  std::printf("\nconvolution paths: lowered (im2col / col2im + GEMM) vs direct, fastest of %d "
+              "run(s) in ms; ratio = lowered / direct\n",
+              repeat);
+  std::printf("%-44s %8s %8s %5s %8s %8s %5s %8s %8s %5s\n", "x x w", "fwd low", "fwd dir", "ratio",
+              "dx low", "dx dir", "ratio", "dw low", "dw dir", "ratio");
+  for (const auto& c : cases) {
+    const auto low = timeConvPath(c, ocl::ConvPath::Lowered, warmup, repeat);
+    const auto dir = timeConvPath(c, ocl::ConvPath::Direct, warmup, repeat);
+    std::printf("%-44s", c.name().c_str());
+    for (int i = 0; i < 3; ++i)
+      std::printf(" %8.2f %8.2f %5.2f", low[i], dir[i], low[i] / dir[i]);
+    std::printf("\n");
+    std::fflush(stdout);
+  }
+}
+
+void runConvPaths(bool quick, int warmup, int repeat) {
+  if (quick) {
+    benchConvPaths({{{1, 4, 12, 16}, {4, 4, 3, 3}, true}}, warmup, repeat);
+    return;
+  }
+  // The tiny configs' convolutions in a training step at 128x96 (the first five take most of
+  // their time), then wider ones up to the official configs' widths, where the rule in
+  // ops_conv.cpp hands over to the lowered path.
+  benchConvPaths({{{4, 16, 96, 128}, {16, 16, 3, 3}, true},
+                  {{1, 16, 17, 24, 32}, {16, 16, 3, 3, 3}, true},
+                  {{4, 40, 96, 128}, {16, 40, 3, 3}, true},
+                  {{17, 16, 48, 64}, {16, 16, 3, 3}, true},
+                  {{1, 36, 17, 24, 32}, {16, 36, 3, 3, 3}, true},
+                  {{4, 3, 96, 128}, {16, 3, 3, 3}, false},
+                  {{4, 16, 24, 32}, {32, 16, 3, 3}, false},
+                  {{4, 32, 24, 32}, {32, 32, 3, 3}, false},
+                  {{4, 32, 12, 16}, {32, 32, 3, 3}, false},
+                  {{4, 64, 48, 64}, {16, 64, 3, 3}, false},
+                  {{4, 16, 48, 64}, {64, 16, 3, 3}, false},
+                  {{4, 32, 48, 64}, {32, 32, 3, 3}, false},
+                  {{4, 96, 48, 64}, {64, 96, 3, 3}, false},
+                  {{1, 64, 96, 128}, {64, 64, 3, 3}, false},
+                  {{1, 128, 48, 64}, {128, 128, 3, 3}, false},
+                  {{1, 256, 24, 32}, {256, 256, 3, 3}, false}},
+                 warmup, repeat);
+}
+
 // One line on the OpenBLAS build, the kernel it runs and where the choice came from.
 void printBlasKernel(int threads) {
   std::printf("openblas %s, %d thread(s)\n", openblas_get_config(), threads);
@@ -240,7 +342,7 @@ void printBlasKernel(int threads) {
     std::printf("kernel   %s (native)\n", openblas_get_corename());
 }
 
-void runOps(int repeat, bool quick, const std::string& selector) {
+void runOps(int repeat, bool quick, bool pathsOnly, const std::string& selector) {
   if (repeat < 1)
     fail("bench ops: --repeat must be at least 1, got ", repeat);
   if (!selector.empty()) {
@@ -259,10 +361,14 @@ void runOps(int repeat, bool quick, const std::string& selector) {
   std::printf("tuning   %s\n", ocl::clblastTuningSummary().c_str());
   printBlasKernel(threads);
   std::printf("gemm     %s\n", ocl::gemmBackendSummary().c_str());
+  const int warmup = 1;
+  if (pathsOnly) {
+    runConvPaths(quick, warmup, repeat);
+    return;
+  }
   std::printf("median of %d run(s) after warm-up; ratio = OpenBLAS time / device time\n\n", repeat);
   std::printf("%-44s %10s %9s %12s %9s %7s %11s\n", "op", "device ms", "GFLOP/s", "OpenBLAS ms",
               "GFLOP/s", "ratio", "max rel diff");
-  const int warmup = 1;
   if (quick) {
     printRow(benchGemm(128, 128, 128, warmup, repeat));
     printRow(benchGemm(256, 512, 32, warmup, repeat));
@@ -288,6 +394,7 @@ void runOps(int repeat, bool quick, const std::string& selector) {
     printRow(benchGemm(16, 144, 49152, warmup, repeat, true));
     printRow(benchConv({16, 1, 128, 192, 16, 3, false, false}, warmup, repeat, threads));
   }
+  runConvPaths(quick, warmup, repeat);
 }
 
 } // namespace
@@ -348,6 +455,7 @@ void addBenchCommand(CLI::App& app) {
       "ops", "Time GEMM and convolutions on the OpenCL device against OpenBLAS on the CPU");
   auto repeat = std::make_shared<int>(5);
   auto quick = std::make_shared<bool>(false);
+  auto pathsOnly = std::make_shared<bool>(false);
   auto selector = std::make_shared<std::string>();
   ops->add_option("--repeat", *repeat, "Timed runs per op (median reported)")
       ->capture_default_str();
@@ -355,7 +463,10 @@ void addBenchCommand(CLI::App& app) {
   ops->add_option("--device", *selector,
                   "Device as platform:device (default: $SIMPLI_CL_DEVICE, else first GPU, "
                   "else first CPU)");
-  ops->callback([repeat, quick, selector] { runOps(*repeat, *quick, *selector); });
+  ops->add_flag("--conv-paths", *pathsOnly,
+                "Only the convolution paths (lowered vs direct, forward and input gradient)");
+  ops->callback(
+      [repeat, quick, pathsOnly, selector] { runOps(*repeat, *quick, *pathsOnly, *selector); });
   addBenchInferCommand(*bench);
   addBenchTrainCommand(*bench);
   addBenchRenderCommand(*bench);

@@ -4,14 +4,7 @@
 // block and `rows` its row count, so the block's columns are p = row0 * Wo .. (row0 + rows) * Wo.
 // Column matrix layout: col[r][p - p0], r = ((c * KD + i) * KH + j) * KW + l.
 
-// Input coordinate read by output coordinate o at kernel offset k: zero padding reads nothing
-// (returns -1) outside [0, n), replicate padding clamps to the edge.
-inline int source_index(const int o, const int k, const int s, const int p, const int n,
-                        const int replicate) {
-  const int q = o * s - p + k;
-  if (replicate) return clamp(q, 0, n - 1);
-  return (q < 0 || q >= n) ? -1 : q;
-}
+#include "conv_index.h"
 
 // Global size (rows, C * KD * KH * KW): one work item writes one output row (Wo consecutive
 // columns) of one column-matrix row r, so the index arithmetic is done once per row and the
@@ -43,20 +36,6 @@ __kernel void im2col3d(__global const REAL* x, const int xOff, const int C, cons
   __global const REAL* src = in + l - PW;
   for (int ow = lo; ow < hi; ++ow) out[ow] = src[ow * SW];
   for (int ow = hi; ow < Wo; ++ow) out[ow] = right;
-}
-
-inline int floor_div(const int a, const int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-
-// Output coordinates o in [0, n_out) whose tap at kernel offset k reads input coordinate h:
-// o * s - p + k == h, or with replicate padding also every tap clamped onto an edge sample.
-inline int2 taps_reading(const int h, const int k, const int s, const int p, const int n_in,
-                         const int n_out, const int replicate) {
-  const int far = 1 << 28;
-  const int lo_q = (replicate && h == 0) ? -far : h;
-  const int hi_q = (replicate && h == n_in - 1) ? far : h;
-  const int lo = -floor_div(-(lo_q + p - k), s); // ceil((lo_q + p - k) / s)
-  const int hi = floor_div(hi_q + p - k, s);
-  return (int2)(max(lo, 0), min(hi, n_out - 1));
 }
 
 // The adjoint of im2col3d for one block: dx[c, d, h, :] += the column entries that read it.

@@ -1,6 +1,8 @@
 // conv2d / conv3d through the harness: odd sizes, size-1 dimensions, strides, both padding
 // modes, with and without bias, 1x1 and 3x3(x3) kernels, column blocks of one row or spanning
-// several depth slices; bad use; the column memory bound.
+// several depth slices; bad use; the column memory bound. Both paths: lowered (im2col + GEMM)
+// and direct (conv_direct.cl), each forced, the direct one also against the lowered one in
+// float64, and the automatic routing.
 #include "op_harness.h"
 #include "test_support.h"
 
@@ -9,6 +11,7 @@
 #include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
 #include "simpli/ocl/ops_conv.h"
+#include "simpli/ocl/profiler.h"
 
 #include <gtest/gtest.h>
 
@@ -110,6 +113,33 @@ void checkConv(const ConvSpec& s, int probes = 16) {
 }
 
 const PaddingMode kModes[] = {PaddingMode::Zeros, PaddingMode::Replicate};
+const ocl::ConvPath kPaths[] = {ocl::ConvPath::Lowered, ocl::ConvPath::Direct};
+
+const char* pathName(ocl::ConvPath path) {
+  switch (path) {
+  case ocl::ConvPath::Auto:
+    return "auto";
+  case ocl::ConvPath::Lowered:
+    return "lowered";
+  case ocl::ConvPath::Direct:
+    return "direct";
+  }
+  return "?";
+}
+
+// Sets the convolution path for a scope (and names it in failure messages).
+class PathScope {
+public:
+  explicit PathScope(ocl::ConvPath path)
+      : previous_(ocl::setConvPath(path)), trace_(__FILE__, __LINE__, pathName(path)) {}
+  ~PathScope() { ocl::setConvPath(previous_); }
+  PathScope(const PathScope&) = delete;
+  PathScope& operator=(const PathScope&) = delete;
+
+private:
+  ocl::ConvPath previous_;
+  ::testing::ScopedTrace trace_;
+};
 
 // The convolutions' GEMMs run on both backends: the host BLAS and CLBlast with the skinny kernels.
 class ConvGemm : public GemmBackendTest {};
@@ -118,38 +148,42 @@ SIMPLI_GEMM_BACKENDS(ConvGemm);
 } // namespace
 
 TEST_P(ConvGemm, Conv2dAgainstReference) {
-  for (PaddingMode mode : kModes) {
-    const ConvSpec cases[] = {
-        {{1, 1, 1, 1}, {1, 1, 1, 1}, {1, 1, 1}, {0, 0, 0}, mode, true},  // all size 1
-        {{2, 3, 5, 7}, {4, 3, 3, 3}, {1, 1, 1}, {1, 1, 0}, mode, true},  // 3x3 pad 1
-        {{1, 3, 5, 7}, {2, 3, 3, 3}, {1, 1, 1}, {1, 1, 0}, mode, false}, // no bias
-        {{1, 2, 7, 6}, {3, 2, 3, 3}, {2, 2, 1}, {1, 1, 0}, mode, true},  // stride 2
-        {{2, 5, 3, 4}, {3, 5, 1, 1}, {1, 1, 1}, {0, 0, 0}, mode, true},  // 1x1 (no im2col)
-        {{1, 4, 5, 5}, {2, 4, 1, 1}, {1, 1, 1}, {0, 0, 0}, mode, false}, // 1x1 without bias
-        {{1, 3, 5, 7}, {2, 3, 1, 1}, {2, 2, 1}, {0, 0, 0}, mode, true},  // 1x1 stride 2
-        {{1, 2, 6, 5}, {3, 2, 2, 3}, {2, 1, 1}, {0, 1, 0}, mode, true},  // 2x3, mixed
-        {{1, 1, 2, 2}, {1, 1, 3, 3}, {1, 1, 1}, {1, 1, 0}, mode, true},  // kernel > input
-        {{1, 2, 1, 9}, {2, 2, 1, 3}, {1, 1, 1}, {0, 1, 0}, mode, false}, // height 1
-        {{1, 2, 4, 4}, {1, 2, 3, 3}, {1, 1, 1}, {2, 2, 0}, mode, true},  // pad 2
-    };
-    for (const auto& s : cases)
-      checkConv(s);
-  }
+  for (ocl::ConvPath path : kPaths)
+    for (PaddingMode mode : kModes) {
+      const PathScope scope(path);
+      const ConvSpec cases[] = {
+          {{1, 1, 1, 1}, {1, 1, 1, 1}, {1, 1, 1}, {0, 0, 0}, mode, true},  // all size 1
+          {{2, 3, 5, 7}, {4, 3, 3, 3}, {1, 1, 1}, {1, 1, 0}, mode, true},  // 3x3 pad 1
+          {{1, 3, 5, 7}, {2, 3, 3, 3}, {1, 1, 1}, {1, 1, 0}, mode, false}, // no bias
+          {{1, 2, 7, 6}, {3, 2, 3, 3}, {2, 2, 1}, {1, 1, 0}, mode, true},  // stride 2
+          {{2, 5, 3, 4}, {3, 5, 1, 1}, {1, 1, 1}, {0, 0, 0}, mode, true},  // 1x1 (no im2col)
+          {{1, 4, 5, 5}, {2, 4, 1, 1}, {1, 1, 1}, {0, 0, 0}, mode, false}, // 1x1 without bias
+          {{1, 3, 5, 7}, {2, 3, 1, 1}, {2, 2, 1}, {0, 0, 0}, mode, true},  // 1x1 stride 2
+          {{1, 2, 6, 5}, {3, 2, 2, 3}, {2, 1, 1}, {0, 1, 0}, mode, true},  // 2x3, mixed
+          {{1, 1, 2, 2}, {1, 1, 3, 3}, {1, 1, 1}, {1, 1, 0}, mode, true},  // kernel > input
+          {{1, 2, 1, 9}, {2, 2, 1, 3}, {1, 1, 1}, {0, 1, 0}, mode, false}, // height 1
+          {{1, 2, 4, 4}, {1, 2, 3, 3}, {1, 1, 1}, {2, 2, 0}, mode, true},  // pad 2
+      };
+      for (const auto& s : cases)
+        checkConv(s);
+    }
 }
 
 TEST_P(ConvGemm, Conv3dAgainstReference) {
-  for (PaddingMode mode : kModes) {
-    const ConvSpec cases[] = {
-        {{1, 2, 3, 4, 5}, {3, 2, 3, 3, 3}, {1, 1, 1}, {1, 1, 1}, mode, true},
-        {{2, 2, 3, 4, 3}, {2, 2, 3, 3, 3}, {1, 1, 1}, {1, 1, 1}, mode, false},
-        {{1, 2, 5, 5, 4}, {2, 2, 3, 3, 3}, {2, 2, 2}, {1, 1, 1}, mode, true},
-        {{1, 3, 2, 3, 4}, {2, 3, 1, 1, 1}, {1, 1, 1}, {0, 0, 0}, mode, true},
-        {{1, 2, 1, 4, 4}, {2, 2, 1, 3, 3}, {1, 1, 1}, {0, 1, 1}, mode, true},
-        {{1, 1, 4, 1, 1}, {1, 1, 3, 1, 1}, {1, 1, 1}, {1, 0, 0}, mode, false},
-    };
-    for (const auto& s : cases)
-      checkConv(s);
-  }
+  for (ocl::ConvPath path : kPaths)
+    for (PaddingMode mode : kModes) {
+      const PathScope scope(path);
+      const ConvSpec cases[] = {
+          {{1, 2, 3, 4, 5}, {3, 2, 3, 3, 3}, {1, 1, 1}, {1, 1, 1}, mode, true},
+          {{2, 2, 3, 4, 3}, {2, 2, 3, 3, 3}, {1, 1, 1}, {1, 1, 1}, mode, false},
+          {{1, 2, 5, 5, 4}, {2, 2, 3, 3, 3}, {2, 2, 2}, {1, 1, 1}, mode, true},
+          {{1, 3, 2, 3, 4}, {2, 3, 1, 1, 1}, {1, 1, 1}, {0, 0, 0}, mode, true},
+          {{1, 2, 1, 4, 4}, {2, 2, 1, 3, 3}, {1, 1, 1}, {0, 1, 1}, mode, true},
+          {{1, 1, 4, 1, 1}, {1, 1, 3, 1, 1}, {1, 1, 1}, {1, 0, 0}, mode, false},
+      };
+      for (const auto& s : cases)
+        checkConv(s);
+    }
 }
 
 TEST_P(ConvGemm, SmallColumnBlocksGiveTheSameResult) {
@@ -257,4 +291,126 @@ TEST_P(ConvGemm, ReplicatePaddingOfAConstantImageIsExact) {
     for (int p = 0; p < 4 * 5 * 6; ++p)
       ASSERT_NEAR(y[o * 120 + p], expect, 1e-12) << "o " << o << " p " << p;
   }
+}
+
+namespace {
+
+// Shapes for the direct kernels' own edges: rows wider than one 8-wide vector (interior vector
+// loads, stride-2 loads of 16, a partial last vector), channel counts above one block of 16
+// (17 -> 2 blocks of 9, 33 -> 3 of 11, with a partial last block), batch > 1, pads larger than
+// half the kernel, stride 3 and 5-wide kernels (the per-sample gather), mixed strides.
+std::vector<ConvSpec> directCases(PaddingMode mode) {
+  return {
+      {{2, 17, 5, 21}, {9, 17, 3, 3}, {1, 1, 1}, {1, 1, 0}, mode, true},
+      {{2, 3, 7, 37}, {18, 3, 3, 3}, {2, 2, 1}, {1, 1, 0}, mode, true},
+      {{1, 4, 4, 19}, {33, 4, 3, 3}, {1, 1, 1}, {1, 1, 0}, mode, false},
+      {{1, 2, 6, 23}, {3, 2, 5, 5}, {3, 3, 1}, {2, 2, 0}, mode, true},
+      {{1, 2, 5, 11}, {3, 2, 3, 3}, {1, 2, 1}, {2, 2, 0}, mode, true},
+      {{2, 5, 3, 4, 19}, {7, 5, 3, 3, 3}, {1, 1, 1}, {1, 1, 1}, mode, true},
+      {{1, 3, 5, 4, 37}, {4, 3, 3, 3, 3}, {2, 2, 2}, {1, 1, 1}, mode, false},
+      {{1, 2, 4, 5, 17}, {3, 2, 3, 3, 3}, {1, 2, 1}, {1, 0, 2}, mode, true},
+  };
+}
+
+} // namespace
+
+TEST_P(ConvGemm, DirectPathAgainstReference) {
+  const PathScope scope(ocl::ConvPath::Direct);
+  for (PaddingMode mode : kModes)
+    for (const auto& s : directCases(mode))
+      checkConv(s, 24);
+}
+
+namespace {
+
+// The forward and all gradients of one case on the current path, in float64.
+std::vector<std::vector<double>> runF64(const ConvSpec& s) {
+  std::vector<ocl::Tensor> t = {ocl::Tensor::uniform(s.x, -1, 1, 31, Dtype::F64),
+                                ocl::Tensor::uniform(s.w, -1, 1, 32, Dtype::F64)};
+  if (s.bias)
+    t.push_back(ocl::Tensor::uniform({s.w[0]}, -1, 1, 33, Dtype::F64));
+  for (auto& v : t)
+    v.setRequiresGrad(true);
+  const ocl::Tensor y = runConv(s, t);
+  y.backward(ocl::Tensor::uniform(y.shape(), -1, 1, 34, Dtype::F64));
+  std::vector<std::vector<double>> out = {y.toVector()};
+  for (const auto& v : t)
+    out.push_back(v.grad().toVector());
+  return out;
+}
+
+} // namespace
+
+TEST_P(ConvGemm, DirectPathEqualsLoweredPathInFloat64) {
+  PoisonGuard poison;
+  const char* names[] = {"output", "input gradient", "weight gradient", "bias gradient"};
+  for (PaddingMode mode : kModes)
+    for (const auto& s : directCases(mode)) {
+      SCOPED_TRACE(describe(s));
+      std::vector<std::vector<double>> lowered, direct;
+      {
+        const PathScope scope(ocl::ConvPath::Lowered);
+        lowered = runF64(s);
+      }
+      {
+        const PathScope scope(ocl::ConvPath::Direct);
+        direct = runF64(s);
+      }
+      ASSERT_EQ(lowered.size(), direct.size());
+      for (std::size_t i = 0; i < lowered.size(); ++i)
+        EXPECT_LT(relativeError(direct[i], lowered[i]), 1e-12) << names[i];
+    }
+}
+
+namespace {
+
+// Names of the kernels one forward and backward of a case launch on the automatic path.
+std::vector<std::string> kernelsLaunched(const ConvSpec& s) {
+  const PathScope scope(ocl::ConvPath::Auto);
+  ocl::Profiler::setEnabled(true);
+  ocl::Profiler::reset();
+  runF64(s);
+  std::vector<std::string> names;
+  for (const auto& e : ocl::Profiler::entries())
+    names.push_back(e.name);
+  ocl::Profiler::setEnabled(false);
+  ocl::Profiler::reset();
+  return names;
+}
+
+bool launched(const std::vector<std::string>& names, const std::string& kernel) {
+  return std::find(names.begin(), names.end(), kernel) != names.end();
+}
+
+} // namespace
+
+TEST(Conv, AutomaticPathTakesTheDirectKernelsForSmallChannelCounts) {
+  const bool wasEnabled = ocl::Profiler::enabled();
+  // 16 -> 16 channels, 3x3 (the small configs' convolutions): all three passes direct, no
+  // column matrix.
+  const auto small = kernelsLaunched(
+      {{1, 16, 6, 24}, {16, 16, 3, 3}, {1, 1, 1}, {1, 1, 0}, PaddingMode::Zeros, true});
+  EXPECT_TRUE(launched(small, "conv_direct.conv_direct_forward"));
+  EXPECT_TRUE(launched(small, "conv_direct.conv_direct_input_grad"));
+  EXPECT_TRUE(launched(small, "conv_direct.conv_direct_weight_grad"));
+  EXPECT_FALSE(launched(small, "conv.im2col3d"));
+  EXPECT_FALSE(launched(small, "conv.col2im3d"));
+  // 64 input channels: the input gradient goes lowered, the forward and weight gradient direct.
+  const auto mixed = kernelsLaunched(
+      {{1, 64, 4, 8}, {16, 64, 3, 3}, {1, 1, 1}, {1, 1, 0}, PaddingMode::Zeros, false});
+  EXPECT_TRUE(launched(mixed, "conv_direct.conv_direct_forward"));
+  EXPECT_TRUE(launched(mixed, "conv_direct.conv_direct_weight_grad"));
+  EXPECT_TRUE(launched(mixed, "conv.col2im3d"));
+  // 128 -> 128 channels (the official configs' widths) and x stride 2: the lowered path.
+  for (const ConvSpec& s :
+       {ConvSpec{{1, 128, 4, 8}, {128, 128, 3, 3}, {1, 1, 1}, {1, 1, 0}, PaddingMode::Zeros, false},
+        ConvSpec{{1, 8, 6, 16}, {8, 8, 3, 3}, {1, 2, 1}, {1, 1, 0}, PaddingMode::Zeros, false}}) {
+    SCOPED_TRACE(describe(s));
+    const auto wide = kernelsLaunched(s);
+    EXPECT_FALSE(launched(wide, "conv_direct.conv_direct_forward"));
+    EXPECT_FALSE(launched(wide, "conv_direct.conv_direct_weight_grad"));
+    EXPECT_TRUE(launched(wide, "conv.im2col3d"));
+    EXPECT_TRUE(launched(wide, "conv.col2im3d"));
+  }
+  ocl::Profiler::setEnabled(wasEnabled);
 }

@@ -2,7 +2,10 @@
 // 2-D and 3-D convolutions (cross-correlation, as in PyTorch), differentiable in the input, the
 // weight and the bias. Lowered to GEMMs through CLBlast: an im2col kernel (which also applies the
 // padding) builds column blocks of at most a few tens of MB, so large volumes never materialise
-// a full column matrix. 1x1 convolutions with stride 1 and no padding skip im2col.
+// a full column matrix. 1x1 convolutions with stride 1 and no padding skip im2col. Small
+// convolutions (few channels, x stride 1) take a direct path instead: kernels that read the
+// input taps themselves (conv_direct.cl), chosen per pass (forward, input gradient, weight
+// gradient) by a rule on the shape in ops_conv.cpp.
 #include "simpli/ocl/tensor.h"
 
 #include <array>
@@ -37,5 +40,14 @@ Tensor conv3d(const Tensor& x, const Tensor& weight, const Tensor& bias = Tensor
 /// at least one output row is always taken). Smaller saves device memory, larger gives fewer
 /// and bigger GEMMs. Returns the previous value.
 std::size_t setConvColumnBudget(std::size_t bytes);
+
+/// Which kernels compute the passes of convolutions other than 1x1.
+enum class ConvPath {
+  Auto,    ///< direct for the small shapes where it measured faster, else lowered (default)
+  Lowered, ///< im2col + GEMM / GEMM + col2im (environment SIMPLI_CONV_DIRECT=0)
+  Direct   ///< always direct (environment SIMPLI_CONV_DIRECT=1)
+};
+/// Sets the path (the start value comes from SIMPLI_CONV_DIRECT); returns the previous one.
+ConvPath setConvPath(ConvPath path);
 
 } // namespace simpli::ocl
