@@ -37,36 +37,60 @@ std::vector<int> sceneInputViews(const scene::Scene& scene, const std::vector<in
   return out;
 }
 
+GeneratorInput scaledInput(const std::vector<const io::Image*>& images,
+                           std::vector<scene::Camera> cameras, scene::Camera reference,
+                           double inputScale, ocl::Dtype dtype) {
+  checkInputScale(inputScale, "input scale");
+  if (images.empty() || images.size() != cameras.size())
+    fail("scaledInput: ", images.size(), " images for ", cameras.size(), " cameras");
+  const int W = images[0]->width, H = images[0]->height;
+  const bool resize = inputScale != 1.0;
+  const int w = resize ? scaledSize(W, inputScale) : W;
+  const int h = resize ? scaledSize(H, inputScale) : H;
+  std::vector<float> pixels;
+  pixels.reserve(images.size() * 3 * static_cast<std::size_t>(h) * w);
+  for (const io::Image* image : images) {
+    if (image->width != W || image->height != H)
+      fail("scaledInput: images of different sizes (", W, "x", H, " and ", image->width, "x",
+           image->height, ")");
+    if (w == W && h == H) {
+      pixels.insert(pixels.end(), image->data.begin(), image->data.end());
+    } else {
+      const io::Image resized = io::resizeImage(*image, w, h);
+      pixels.insert(pixels.end(), resized.data.begin(), resized.data.end());
+    }
+  }
+  GeneratorInput input;
+  input.images =
+      ocl::Tensor::fromHost(pixels, {static_cast<int64_t>(images.size()), 3, h, w}, dtype);
+  for (scene::Camera& c : cameras) {
+    c.width = w;
+    c.height = h;
+  }
+  input.sources = std::move(cameras);
+  input.reference = std::move(reference);
+  input.reference.width = w;
+  input.reference.height = h;
+  return input;
+}
+
 GeneratorInput sceneInput(const scene::Scene& scene, const SceneInputOptions& options) {
   const std::vector<int> views = sceneInputViews(scene, options.views);
   checkInputScale(options.inputScale, "input scale");
   const int H = scene.height(), W = scene.width();
-  const bool resize = options.inputScale != 1.0;
-  const int h = resize ? scaledSize(H, options.inputScale) : H;
-  const int w = resize ? scaledSize(W, options.inputScale) : W;
-  GeneratorInput input;
-  std::vector<float> pixels;
-  pixels.reserve(views.size() * 3 * static_cast<std::size_t>(h) * w);
+  std::vector<const io::Image*> images;
+  std::vector<scene::Camera> cameras;
   for (int v : views) {
     const scene::SceneView& view = scene.views[static_cast<std::size_t>(v)];
     if (view.camera.width != W || view.camera.height != H)
       fail("scene ", scene.root, ": view ", v, " (", view.name, ") is ", view.camera.width, " x ",
            view.camera.height, ", view 0 is ", W, " x ", H, "; the sources must share one size");
-    if (resize) {
-      const io::Image small = io::resizeImage(view.image, w, h);
-      pixels.insert(pixels.end(), small.data.begin(), small.data.end());
-    } else {
-      pixels.insert(pixels.end(), view.image.data.begin(), view.image.data.end());
-    }
-    input.sources.push_back(view.camera);
-    input.sources.back().width = w; // relative intrinsics: only the size changes
-    input.sources.back().height = h;
+    images.push_back(&view.image);
+    cameras.push_back(view.camera);
   }
-  input.images =
-      ocl::Tensor::fromHost(pixels, {static_cast<int64_t>(views.size()), 3, h, w}, options.dtype);
-  input.reference = scene::referenceCamera(input.sources);
-  input.reference.width = w;
-  input.reference.height = h;
+  const scene::Camera reference = scene::referenceCamera(cameras);
+  GeneratorInput input =
+      scaledInput(images, std::move(cameras), reference, options.inputScale, options.dtype);
   if (options.depthRange == DepthRangeSource::Scene) {
     if (!(scene.near > 0 && scene.far > scene.near))
       fail("scene ", scene.root, ": near ", scene.near, ", far ", scene.far,

@@ -33,23 +33,10 @@ int nearestSourceView(const std::vector<scene::Camera>& sources, const scene::Ca
 
 generator::GeneratorInput sampleInput(const TrainingSample& sample, double inputScale,
                                       ocl::Dtype dtype) {
-  generator::checkInputScale(inputScale, "input scale");
-  const int W = generator::scaledSize(sample.reference.width, inputScale);
-  const int H = generator::scaledSize(sample.reference.height, inputScale);
-  generator::GeneratorInput in;
-  std::vector<io::Image> images;
+  std::vector<const io::Image*> images;
   for (const io::Image& image : sample.sources)
-    images.push_back(image.width == W && image.height == H ? image : io::resizeImage(image, W, H));
-  in.images = imagesToTensor(images, dtype);
-  in.sources = sample.sourceCameras;
-  for (scene::Camera& c : in.sources) { // relative intrinsics: only the size changes
-    c.width = W;
-    c.height = H;
-  }
-  in.reference = sample.reference;
-  in.reference.width = W;
-  in.reference.height = H;
-  return in;
+    images.push_back(&image);
+  return generator::scaledInput(images, sample.sourceCameras, sample.reference, inputScale, dtype);
 }
 
 io::Image renderedImage(const ocl::Tensor& t, const char* what) {

@@ -111,3 +111,18 @@ TEST(SceneInput, InputScaleResizesTheImagesAndTheCameras) {
         },
         {"input scale", "(0, 2]"});
 }
+
+// scaledInput, which sceneInput and the evaluation's sampleInput share, names what does not fit.
+TEST(SceneInput, ScaledInputNamesMismatchedImagesAndCameras) {
+  const scene::Scene& scene = bundled();
+  const io::Image other(scene.width() / 2, scene.height());
+  const std::vector<const io::Image*> mixed = {&scene.views[0].image, &other};
+  const std::vector<scene::Camera> two = {scene.views[0].camera, scene.views[1].camera};
+  test::expectError([&] { generator::scaledInput(mixed, two, two[0], 1.0, ocl::Dtype::F32); },
+                    {"images of different sizes", std::to_string(scene.width() / 2)});
+  const std::vector<const io::Image*> one = {&scene.views[0].image};
+  test::expectError([&] { generator::scaledInput(one, two, two[0], 0.5, ocl::Dtype::F32); },
+                    {"1 images for 2 cameras"});
+  test::expectError([&] { generator::scaledInput({}, {}, two[0], 1.0, ocl::Dtype::F32); },
+                    {"0 images for 0 cameras"});
+}

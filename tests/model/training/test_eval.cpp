@@ -85,6 +85,21 @@ TEST(TrainEval, SampleInputResizesOnlyTheSources) {
   EXPECT_NEAR(h[size_t(3 * 32 * 48) + 5 * 48 + 7], double(small.data[5 * 48 + 7]), 1e-6);
 }
 
+// Scale 1 is "as they are" also for a size the network's grid does not divide (as sceneInput).
+TEST(TrainEval, SampleInputAtScaleOneKeepsAnySize) {
+  DataOptions d;
+  d.width = 100;
+  d.height = 70;
+  auto data = openTrainingData(kScene, d);
+  const TrainingSample s = firstSample(*data);
+  const generator::GeneratorInput same = sampleInput(s, 1.0, ocl::Dtype::F32);
+  EXPECT_EQ(same.images.shape(), (ocl::Shape{3, 3, 70, 100}));
+  EXPECT_EQ(same.reference.width, 100);
+  EXPECT_EQ(same.sources[2].height, 70);
+  const generator::GeneratorInput twice = sampleInput(s, 2.0, ocl::Dtype::F32);
+  EXPECT_EQ(twice.images.shape(), (ocl::Shape{3, 3, 144, 208})); // 140 -> 144, 200 -> 208
+}
+
 TEST(TrainEval, BadInputScaleIsNamed) {
   auto data = bundledScene();
   const TrainingSample s = firstSample(*data);

@@ -3,6 +3,7 @@
 // views' images as one [V, 3, H, W] tensor, their cameras, and the virtual reference camera
 // (the pose average of the sources, spec §6.1) at the sources' size.
 #include "simpli/model/generator/generator.h"
+#include "simpli/model/io/image.h"
 #include "simpli/model/scene/scene.h"
 
 #include <string>
@@ -31,6 +32,15 @@ int scaledSize(int size, double scale);
 
 /// Throws simpli::Error naming `what` unless 0 < scale <= 2.
 void checkInputScale(double scale, const std::string& what);
+
+/// The sources as the network sees them at `inputScale`: every image resized to scaledSize of
+/// each side (exactly 1 keeps them as they are, whatever their size), as one [V, 3, h, w] tensor;
+/// the cameras and `reference` with that size (relative intrinsics: only the size changes). The
+/// depth range is left to the caller. Throws simpli::Error for a scale outside (0, 2], no images,
+/// images of different sizes or a camera count that is not the image count.
+GeneratorInput scaledInput(const std::vector<const io::Image*>& images,
+                           std::vector<scene::Camera> cameras, scene::Camera reference,
+                           double inputScale, ocl::Dtype dtype);
 
 /// Throws simpli::Error naming the scene and the index for a view out of range, a repeated
 /// view, an empty scene, views of different sizes or an input scale outside (0, 2].

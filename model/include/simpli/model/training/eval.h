@@ -62,10 +62,10 @@ struct EvalResult {
   metrics::MeanStd build; ///< of buildMs
 };
 
-/// The generator's input for one sample: its sources and cameras, with the images resized to
-/// generator::scaledSize(reference size, inputScale) when that differs from their size (relative
-/// intrinsics: only the cameras' sizes change). The reference camera follows the sources; the
-/// targets keep theirs. Throws simpli::Error for a scale outside (0, 2].
+/// The generator's input for one sample: its sources, their cameras and the sample's reference
+/// camera through generator::scaledInput (exactly 1 keeps the images as they are; otherwise each
+/// side becomes scaledSize(side, inputScale)). The targets keep their size. Throws simpli::Error
+/// for a scale outside (0, 2].
 generator::GeneratorInput sampleInput(const TrainingSample& sample, double inputScale,
                                       ocl::Dtype dtype);
 
