@@ -7,9 +7,9 @@
 // OpenBLAS chooses its kernel once, when the library loads, and honours OPENBLAS_CORETYPE (and
 // OPENBLAS_L2_SIZE) from the environment; an environment that forces an older kernel (this
 // machine's sets Haswell on an AVX-512 CPU) would make the reference look 2.5x slower than the
-// real library. So `bench ops` and `bench infer` re-execute themselves with those variables
-// removed before anything else runs (reexecBenchmarkWithNativeBlas, called first in main) and
-// print the kernel OpenBLAS picked. SIMPLI_BENCH_BLAS_ENV=keep keeps the environment as it is.
+// real library. So `bench ops`, `bench infer` and `bench train` re-execute themselves with those
+// variables removed before anything else runs (reexecBenchmarkWithNativeBlas, called first in main)
+// and print the kernel OpenBLAS picked. SIMPLI_BENCH_BLAS_ENV=keep keeps the environment as it is.
 #include "commands.h"
 
 #include "simpli/error.h"
@@ -401,7 +401,8 @@ void runOps(int repeat, bool quick, bool pathsOnly, const std::string& selector)
 
 void reexecBenchmarkWithNativeBlas(int argc, char** argv) {
   if (argc < 3 || std::strcmp(argv[1], "bench") != 0 ||
-      (std::strcmp(argv[2], "ops") != 0 && std::strcmp(argv[2], "infer") != 0))
+      (std::strcmp(argv[2], "ops") != 0 && std::strcmp(argv[2], "infer") != 0 &&
+       std::strcmp(argv[2], "train") != 0))
     return;
   if (std::getenv(kReexecMarker)) // already re-executed
     return;

@@ -4,12 +4,13 @@
 // run folder, printing ms/step (mean +- std, min), and then one more step with the profiler on
 // (every device call finished and timed; slower, so not part of the mean) as a breakdown by
 // kernel and by engine area. Measures, never asserts; the load average is printed beside the
-// times because the machine may be shared.
+// times because the machine may be shared. Runs with OpenBLAS's native kernel (cmd_bench.cpp).
 #include <CLI/CLI.hpp>
 
 #include "simpli/error.h"
 #include "simpli/model/training/trainer.h"
 #include "simpli/ocl/device.h"
+#include "simpli/ocl/gemm_backend.h"
 #include "simpli/ocl/profiler.h"
 
 #include <algorithm>
@@ -128,6 +129,9 @@ void runBenchTrain(const BenchTrainOptions& o) {
   std::printf("simpli bench train: config %s (%s), data %s, device %s; load average %s\n",
               o.config.c_str(), config.network.name.c_str(), o.data.c_str(), dev.deviceName.c_str(),
               loadAverage().c_str());
+  // Host GEMMs are part of the step: say which OpenBLAS kernel ran them (the process drops
+  // OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE first, like bench ops).
+  std::printf("gemm backend: %s\n", ocl::gemmBackendSummary().c_str());
   for (int i = 0; i < o.warmup; ++i) {
     std::printf("warm-up step %d: %.0f ms", i + 1, trainer.trainStep().ms);
     if (baseline)
