@@ -39,7 +39,11 @@ for ((r = 1; r <= runs; ++r)); do
   for which in "${order[@]}"; do
     bin=$old
     [[ $which == new ]] && bin=$new
-    read -r mean std load < <(time_build "$bin" "$@")
+    # A plain substitution, not < <(...): a failed bench train stops the script (set -e)
+    # instead of being read as an empty (zero) time.
+    line=$(time_build "$bin" "$@")
+    read -r mean std load <<< "$line"
+    [[ -n "${mean:-}" ]] || { echo "bench-train-ab.sh: no 'train step:' line from $bin" >&2; exit 1; }
     printf 'run %d %-3s %6d +- %5d ms/step (load %s)\n' "$r" "$which" "$mean" "$std" "$load"
     if [[ $which == old ]]; then old_ms+=("$mean"); else new_ms+=("$mean"); fi
   done
