@@ -4,25 +4,43 @@
 # SIMPLI_VALIDATE=SCENE scores the network on that scene at checkpoints (RUN_DIR/out/val.csv,
 # validation/, progress.png; every SIMPLI_VALIDATE_EVERY steps, default 100) and keeps the
 # weights of the best score in RUN_DIR/out/best.safetensors (score them with `simpli eval`);
-# SIMPLI_UPDATE_BINARY=1 replaces the run's copy of the binary with the tree's.
+# SIMPLI_UPDATE_BINARY=1 replaces the run's copy of the binary with the tree's (SIMPLI=PATH: another
+# binary than build/bin/simpli).
 # SIMPLI_TRAIN_ARGS="--size 128x96 ..." adds options to `simpli train`; they are kept in
 # RUN_DIR/bin/args on the first launch and reused when the run resumes.
 # If RUN_DIR holds a checkpoint the run resumes from it; otherwise it warm-starts from the
-# shipped weights (model/weights/default.safetensors) and says so in RUN_DIR/launch.log.
+# shipped weights (model/weights/default.safetensors) and says so in RUN_DIR/launch.log;
+# SIMPLI_INIT_WEIGHTS=FILE starts from FILE instead, =none from a random initialisation (a
+# network of another config than the shipped one, e.g. official-4l).
 # The binary is copied into RUN_DIR/bin first, so rebuilding the tree never changes the program
 # of a running run. Runs niced (SIMPLI_NICE, default 15) in the background; `kill -INT` checkpoints and stops it.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 run=${1:?usage: train-long.sh RUN_DIR [CONFIG]}
 config=${2:-$root/model/configs/training/tiny-world.json}
+init=${SIMPLI_INIT_WEIGHTS:-$root/model/weights/default.safetensors}
+# Checked before anything is written, so a mistyped path leaves no half-made run folder behind.
+simpli=${SIMPLI:-$root/build/bin/simpli}
+for file in "$config" "$simpli"; do
+  [[ -f "$file" ]] || { echo "train-long.sh: $file: no such file" >&2; exit 1; }
+done
+if [[ "$init" != none && ! -f "$init" ]]; then
+  echo "train-long.sh: SIMPLI_INIT_WEIGHTS=$init: no such file (a weights file or 'none')" >&2
+  exit 1
+fi
 mkdir -p "$run/bin"
 run=$(cd "$run" && pwd)
 if [[ ! -x "$run/bin/simpli" || "${SIMPLI_UPDATE_BINARY:-0}" == 1 ]]; then
-  cp "$root/build/bin/simpli" "$run/bin/simpli.new" && mv "$run/bin/simpli.new" "$run/bin/simpli"
+  cp "$simpli" "$run/bin/simpli.new" && mv "$run/bin/simpli.new" "$run/bin/simpli"
 fi
 if [[ ! -f "$run/bin/config.json" ]]; then
+  if [[ "$init" == none ]]; then
+    echo "none" > "$run/bin/init"
+  else
+    cp "$init" "$run/bin/init.safetensors"
+    echo "$init (sha1 $(sha1sum < "$init" | cut -c1-7))" > "$run/bin/init"
+  fi
   cp "$config" "$run/bin/config.json"
-  cp "$root/model/weights/default.safetensors" "$run/bin/init.safetensors"
 fi
 # The config names its network relative to itself: keep the network configs beside it.
 mkdir -p "$run/model/configs/training"
@@ -37,11 +55,16 @@ if [[ -n "$(ls -A "$run/out/checkpoints" 2>/dev/null)" ]]; then
   echo "$(date -Is) resuming $run/out" >> "$run/launch.log"
   args=(--out "$run/out" --resume --checkpoint-every "$every")
 else
-  echo "$(date -Is) no checkpoint in $run/out: warm start from the shipped weights" \
-    "(model/weights/default.safetensors at $(git -C "$root" rev-parse --short HEAD))" >> "$run/launch.log"
   rm -rf "$run/out"
-  args=(--config "$run/model/configs/training/run.json" --init-weights "$run/bin/init.safetensors"
-        --out "$run/out" --checkpoint-every "$every")
+  args=(--config "$run/model/configs/training/run.json" --out "$run/out" --checkpoint-every "$every")
+  if [[ -f "$run/bin/init.safetensors" ]]; then
+    echo "$(date -Is) no checkpoint in $run/out: warm start from $(cat "$run/bin/init" 2>/dev/null || echo "$run/bin/init.safetensors")" \
+      "(tree at $(git -C "$root" rev-parse --short HEAD 2> /dev/null || echo unknown))" >> "$run/launch.log"
+    args+=(--init-weights "$run/bin/init.safetensors")
+  else
+    echo "$(date -Is) no checkpoint in $run/out: random initialisation" \
+      "(tree at $(git -C "$root" rev-parse --short HEAD 2> /dev/null || echo unknown))" >> "$run/launch.log"
+  fi
 fi
 if [[ -n "${SIMPLI_VALIDATE:-}" ]]; then
   args+=(--validate "$SIMPLI_VALIDATE" --validate-every "${SIMPLI_VALIDATE_EVERY:-100}")
