@@ -9,6 +9,7 @@
 
 #include "simpli/error.h"
 #include "simpli/model/training/trainer.h"
+#include "simpli/ocl/buffer_pool.h"
 #include "simpli/ocl/device.h"
 #include "simpli/ocl/gemm_backend.h"
 #include "simpli/ocl/profiler.h"
@@ -138,6 +139,9 @@ void runBenchTrain(const BenchTrainOptions& o) {
       std::printf(", baseline %.0f ms", baseline->trainStep().ms);
     std::printf("\n");
   }
+  // Device allocations during the timed steps: each new buffer costs page faults (the pages
+  // are zeroed by the kernel on first touch), which the pool exists to avoid.
+  const ocl::PoolStats poolBefore = ocl::Device::current().pool().stats();
   std::vector<double> ms, baseMs;
   for (int i = 0; i < o.steps; ++i) {
     ms.push_back(trainer.trainStep().ms);
@@ -152,6 +156,11 @@ void runBenchTrain(const BenchTrainOptions& o) {
   const Summary step = summarise(ms);
   std::printf("train step: %.0f +- %.0f ms (min %.0f) over %zu steps; load average %s\n", step.mean,
               step.std, step.min, ms.size(), loadAverage().c_str());
+  const ocl::PoolStats& pool = ocl::Device::current().pool().stats();
+  std::printf("buffer pool over the timed steps: %zu new buffers, %zu reuses, %zu evictions; "
+              "%.0f MiB parked\n",
+              pool.allocations - poolBefore.allocations, pool.reuses - poolBefore.reuses,
+              pool.evictions - poolBefore.evictions, pool.cachedBytes / 1048576.0);
   if (baseline) {
     const Summary base = summarise(baseMs);
     std::printf("baseline (%s aggregation): %.0f +- %.0f ms (min %.0f); ratio of the means %.2f "

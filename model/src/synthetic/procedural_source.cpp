@@ -15,11 +15,32 @@ ProceduralSceneSource::ProceduralSceneSource(const SyntheticSceneParams& params,
   params_.validate();
 }
 
-SyntheticSample ProceduralSceneSource::sample(uint64_t index) const {
+SyntheticScene ProceduralSceneSource::geometry(uint64_t index) const {
   SyntheticSceneParams p = params_;
   p.seed = seedOf(index);
-  const SyntheticScene geometry = generateSyntheticScene(p);
-  SyntheticSample s = makeSample(geometry, renderViews(geometry), normalisation_);
+  return generateSyntheticScene(p);
+}
+
+SyntheticSample ProceduralSceneSource::sample(uint64_t index) const {
+  const SyntheticScene g = geometry(index);
+  SyntheticSample s = makeSample(g, renderViews(g), normalisation_);
+  s.index = index;
+  return s;
+}
+
+SyntheticSample ProceduralSceneSource::sample(const SyntheticScene& geometry, uint64_t index,
+                                              const std::vector<int>& colourViews) const {
+  const int n = int(geometry.cameras.size());
+  std::vector<bool> colour(size_t(n), false);
+  for (int v : colourViews) {
+    if (v < 0 || v >= n)
+      fail("synthetic sample ", index, ": view ", v, " out of range (the scene has ", n, " views)");
+    colour[size_t(v)] = true;
+  }
+  std::vector<RenderedView> views;
+  for (int i = 0; i < n; ++i)
+    views.push_back(colour[size_t(i)] ? renderView(geometry, i) : renderDepth(geometry, i));
+  SyntheticSample s = makeSample(geometry, views, normalisation_);
   s.index = index;
   return s;
 }
@@ -51,7 +72,8 @@ SyntheticSample makeSample(const SyntheticScene& geometry, const std::vector<Ren
   for (size_t i = 0; i < views.size(); ++i) {
     scene::SceneView v;
     v.name = scene::llffViewName(i, views.size()) + ".png";
-    v.image = views[i].image();
+    if (!views[i].rgb.empty())
+      v.image = views[i].image();
     v.camera = n.toNormalised(geometry.cameras[i]);
     v.originalWidth = views[i].width;
     v.originalHeight = views[i].height;

@@ -115,10 +115,39 @@ RenderedView renderView(const SyntheticScene& scene, const scene::Camera& camera
   return view;
 }
 
-RenderedView renderView(const SyntheticScene& scene, int index) {
+namespace {
+
+void checkViewIndex(const SyntheticScene& scene, int index, const char* what) {
   if (index < 0 || index >= int(scene.cameras.size()))
-    fail("renderView: view ", index, " out of range (the scene has ", scene.cameras.size(),
+    fail(what, ": view ", index, " out of range (the scene has ", scene.cameras.size(),
          " cameras)");
+}
+
+} // namespace
+
+RenderedView renderDepth(const SyntheticScene& scene, int index) {
+  checkViewIndex(scene, index, "renderDepth");
+  const scene::Camera& camera = scene.cameras[size_t(index)];
+  const int w = camera.width, h = camera.height;
+  if (w <= 0 || h <= 0)
+    fail("renderDepth: camera image size ", w, " x ", h, " is not positive");
+  RenderedView view;
+  view.width = w;
+  view.height = h;
+  view.depth.assign(size_t(w) * size_t(h), 0.0f);
+  // The centre rays of renderView, so the depths are the same to the bit.
+  cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y)
+      for (int x = 0; x < w; ++x) {
+        const SurfaceHit centre = castRay(scene, cameraRay(camera, (x + 0.5) / w, (y + 0.5) / h));
+        view.depth[size_t(y) * size_t(w) + size_t(x)] = centre.hit() ? float(centre.t) : 0.0f;
+      }
+  });
+  return view;
+}
+
+RenderedView renderView(const SyntheticScene& scene, int index) {
+  checkViewIndex(scene, index, "renderView");
   return renderView(scene, scene.cameras[size_t(index)],
                     deriveSeed(deriveSeed(scene.params.seed, kJitterStream), uint64_t(index)));
 }

@@ -79,8 +79,19 @@ public:
       : seed_(seed), source_(params(o, textureNote_), seed) {}
   uint64_t sceneCount() const override { return 0; }
   const scene::Scene& scene(uint64_t index) override {
-    if (!current_ || currentIndex_ != index) {
-      synthetic::SyntheticSample s = source_.sample(index);
+    const int n = frameCount(index);
+    std::vector<int> all(static_cast<size_t>(n));
+    std::iota(all.begin(), all.end(), 0);
+    return sceneForFrames(index, all);
+  }
+  int frameCount(uint64_t index) override { return int(geometry(index).cameras.size()); }
+  const scene::Scene& sceneForFrames(uint64_t index, const std::vector<int>& frames) override {
+    const bool covered =
+        current_ && currentIndex_ == index && std::all_of(frames.begin(), frames.end(), [&](int f) {
+          return f >= 0 && f < int(current_->size()) && !current_->views[size_t(f)].image.empty();
+        });
+    if (!covered) {
+      synthetic::SyntheticSample s = source_.sample(geometry(index), index, frames);
       current_ = std::move(s.scene);
       depths_ = std::move(s.depths);
       currentIndex_ = index;
@@ -100,6 +111,15 @@ public:
   }
 
 private:
+  // The generated scene of `index` (cheap next to rendering it), kept for the render after
+  // frameCount.
+  const synthetic::SyntheticScene& geometry(uint64_t index) {
+    if (!geometry_ || geometryIndex_ != index) {
+      geometry_ = source_.geometry(index);
+      geometryIndex_ = index;
+    }
+    return *geometry_;
+  }
   static synthetic::SyntheticSceneParams params(const DataOptions& o, std::string& note) {
     const SyntheticConfig& c = o.synthetic;
     synthetic::SyntheticSceneParams p;
@@ -149,6 +169,8 @@ private:
   std::optional<scene::Scene> current_;
   std::vector<std::vector<float>> depths_; ///< of current_
   uint64_t currentIndex_ = 0;
+  std::optional<synthetic::SyntheticScene> geometry_;
+  uint64_t geometryIndex_ = 0;
 };
 
 // Sources drawn by weight from the sampler's scene index (sceneCount 0: the sampler draws a
@@ -171,6 +193,14 @@ public:
   const std::vector<std::vector<float>>* depths(uint64_t index) override {
     const auto [part, inner] = locate(index);
     return parts_[part]->depths(inner);
+  }
+  int frameCount(uint64_t index) override {
+    const auto [part, inner] = locate(index);
+    return parts_[part]->frameCount(inner);
+  }
+  const scene::Scene& sceneForFrames(uint64_t index, const std::vector<int>& frames) override {
+    const auto [part, inner] = locate(index);
+    return parts_[part]->sceneForFrames(inner, frames);
   }
   std::string describe() const override {
     std::ostringstream out;

@@ -120,16 +120,25 @@ TrainingSample Sampler::draw(TrainingData& data) {
   const uint64_t count = data.sceneCount();
   const uint64_t index = count == 0 ? uint64_t(random_.uniformInt(0, (int64_t(1) << 31) - 1))
                                     : uint64_t(random_.uniformInt(0, int64_t(count) - 1));
-  const scene::Scene& scene = data.scene(index);
-  return drawFromScene(scene, index, data.depths(index));
+  const FrameDraw d = drawFrames(data.frameCount(index), config_, random_);
+  std::vector<int> frames = d.sources;
+  frames.insert(frames.end(), d.targets.begin(), d.targets.end());
+  const scene::Scene& scene = data.sceneForFrames(index, frames);
+  return drawWithFrames(scene, index, data.depths(index), d);
 }
 
 TrainingSample Sampler::drawFromScene(const scene::Scene& scene, uint64_t sceneIndex,
                                       const std::vector<std::vector<float>>* depths) {
+  const FrameDraw d = drawFrames(int(scene.size()), config_, random_);
+  return drawWithFrames(scene, sceneIndex, depths, d);
+}
+
+TrainingSample Sampler::drawWithFrames(const scene::Scene& scene, uint64_t sceneIndex,
+                                       const std::vector<std::vector<float>>* depths,
+                                       const FrameDraw& d) {
   TrainingSample s;
   s.sceneIndex = sceneIndex;
   s.sceneRoot = scene.root;
-  const FrameDraw d = drawFrames(int(scene.size()), config_, random_);
   s.sourceFrames = d.sources;
   s.targetFrames = d.targets;
   const int W = scene.width(), H = scene.height();

@@ -246,3 +246,20 @@ TEST(SyntheticRender, DepthBoundsEncloseTheDepths) {
   EXPECT_NEAR(b.near, 0.9 * 4.0, 1e-6);
   EXPECT_NEAR(b.far, 1.1 * 10.0, 1e-5);
 }
+
+// The depth-only pass casts renderView's centre rays: the same depths, to the bit, no colour.
+TEST(SyntheticRender, DepthOnlyIsTheRenderedDepth) {
+  SyntheticSceneParams p = smallParams(40, 24, 3, 5);
+  p.objects = 4;
+  p.antialias = 2;
+  const SyntheticScene scene = generateSyntheticScene(p);
+  for (int i = 0; i < int(scene.cameras.size()); ++i) {
+    const RenderedView full = renderView(scene, i), depth = renderDepth(scene, i);
+    EXPECT_EQ(depth.width, full.width);
+    EXPECT_EQ(depth.height, full.height);
+    EXPECT_TRUE(depth.rgb.empty());
+    EXPECT_EQ(depth.depth, full.depth) << "view " << i;
+  }
+  simpli::test::expectError([&] { renderDepth(scene, int(scene.cameras.size())); },
+                            {"renderDepth", "out of range"});
+}

@@ -208,3 +208,31 @@ TEST(ProceduralSource, SamplesAreReproducibleAndIndependent) {
       },
       {"'views' is 0"});
 }
+
+// Training renders colour only for the views a sample uses and the depth of the others: the
+// rendered views, cameras, bounds and depths are those of the full sample, to the bit.
+TEST(ProceduralSource, ColourForSomeViewsIsTheFullSampleThere) {
+  SyntheticSceneParams p = tinyParams();
+  p.views = 5;
+  const ProceduralSceneSource source(p, 11);
+  const SyntheticSample full = source.sample(4);
+  const SyntheticSample part = source.sample(source.geometry(4), 4, {3, 1, 3});
+  EXPECT_EQ(part.index, 4u);
+  EXPECT_EQ(part.seed, full.seed);
+  ASSERT_EQ(part.scene.size(), full.scene.size());
+  EXPECT_EQ(part.scene.near, full.scene.near);
+  EXPECT_EQ(part.scene.far, full.scene.far);
+  EXPECT_EQ(part.depths, full.depths);
+  for (size_t i = 0; i < full.scene.size(); ++i) {
+    const bool colour = i == 1 || i == 3;
+    EXPECT_EQ(part.scene.views[i].image.empty(), !colour) << i;
+    if (colour) {
+      EXPECT_EQ(part.scene.views[i].image.data, full.scene.views[i].image.data) << i;
+    }
+    EXPECT_EQ(part.scene.views[i].camera.t, full.scene.views[i].camera.t) << i;
+    EXPECT_EQ(part.scene.views[i].camera.R, full.scene.views[i].camera.R) << i;
+  }
+  const SyntheticScene g = source.geometry(4);
+  expectError([&] { source.sample(g, 4, {5}); }, {"synthetic sample 4", "view 5", "5 views"});
+  expectError([&] { source.sample(g, 4, {-1}); }, {"view -1"});
+}

@@ -7,6 +7,7 @@
 
 #include "simpli/model/io/image.h"
 #include "simpli/model/training/data.h"
+#include "simpli/model/training/sampler.h"
 
 #include <gtest/gtest.h>
 
@@ -210,6 +211,47 @@ TEST(TrainData, MixtureKeepsTheSyntheticScenesAndDepths) {
   }
   EXPECT_GT(synthetic, 0);
   EXPECT_GT(folders, 0);
+}
+
+// A training draw renders colour only for its frames (sceneForFrames), and the sample is the
+// one a draw from the fully rendered scene gives: same frames, pixels, cameras and depths.
+TEST(TrainData, DrawRendersOnlyItsFramesAndGivesTheFullDraw) {
+  DataOptions o = smallSynthetic();
+  o.synthetic.views = 6;
+  o.synthetic.style = synthetic::SceneStyle::World;
+  SamplingConfig c;
+  c.minViews = 2;
+  c.maxViews = 3;
+  c.novelViews = 1;
+  c.window = 6;
+  c.zoomScales = {1.0, 1.5};
+  auto lazy = openTrainingData("synthetic:4", o), full = openTrainingData("synthetic:4", o);
+  Sampler a(c, 21), b(c, 21);
+  for (int k = 0; k < 4; ++k) {
+    const TrainingSample s = a.draw(*lazy);
+    // b draws the index as draw() does, then its sample from the fully rendered scene (the
+    // path before sceneForFrames).
+    const uint64_t index = uint64_t(b.random().uniformInt(0, (int64_t(1) << 31) - 1));
+    ASSERT_EQ(index, s.sceneIndex);
+    const scene::Scene& scene = lazy->sceneForFrames(s.sceneIndex, {}); // the cached scene
+    size_t rendered = 0;
+    for (const scene::SceneView& v : scene.views)
+      rendered += v.image.empty() ? 0 : 1;
+    EXPECT_EQ(rendered, s.sourceFrames.size() + s.targetFrames.size()) << k;
+    const scene::Scene& all = full->scene(index);
+    for (const scene::SceneView& v : all.views)
+      ASSERT_FALSE(v.image.empty());
+    const TrainingSample t = b.drawFromScene(all, index, full->depths(index));
+    EXPECT_EQ(s.sourceFrames, t.sourceFrames);
+    EXPECT_EQ(s.targetFrames, t.targetFrames);
+    ASSERT_EQ(s.sources.size(), t.sources.size());
+    for (size_t v = 0; v < s.sources.size(); ++v)
+      EXPECT_EQ(s.sources[v].data, t.sources[v].data) << k << " source " << v;
+    EXPECT_EQ(s.targets[0].data, t.targets[0].data) << k;
+    EXPECT_EQ(s.targetCameras[0].t, t.targetCameras[0].t) << k;
+    EXPECT_EQ(s.targetDepths, t.targetDepths) << k;
+    EXPECT_EQ(s.sourceDepths, t.sourceDepths) << k;
+  }
 }
 
 } // namespace simpli::training

@@ -33,6 +33,14 @@ public:
 
   uint64_t seedOf(uint64_t index) const { return deriveSeed(datasetSeed_, index); }
   SyntheticSample sample(uint64_t index) const;
+  /// The generated scene of sample `index`, not rendered (its cameras say how many views).
+  SyntheticScene geometry(uint64_t index) const;
+  /// Sample `index` from its geometry with colour only for the views in `colourViews` (the
+  /// others have an empty image; every view has its depth, which the bounds need). The
+  /// rendered views, cameras, bounds and depths are those of sample(index), to the bit.
+  /// Throws for a view index out of range.
+  SyntheticSample sample(const SyntheticScene& geometry, uint64_t index,
+                         const std::vector<int>& colourViews) const;
   const SyntheticSceneParams& params() const { return params_; }
 
 private:
@@ -42,7 +50,7 @@ private:
 };
 
 /// The Scene + normalised depths for an already generated and rendered scene (what sample()
-/// does after generating).
+/// does after generating). A view rendered without colour (renderDepth) gets an empty image.
 SyntheticSample makeSample(const SyntheticScene& geometry, const std::vector<RenderedView>& views,
                            const scene::NormalisationOptions& normalisation = {});
 

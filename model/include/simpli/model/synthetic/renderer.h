@@ -55,6 +55,12 @@ RenderedView renderView(const SyntheticScene& scene, int index);
 /// All views of the scene.
 std::vector<RenderedView> renderViews(const SyntheticScene& scene);
 
+/// The depth of view `index` alone (rgb left empty): exactly renderView(scene, index).depth
+/// (one ray through each pixel centre) at a fifth of the rays of a 2x2-antialiased render and
+/// no shading. Training needs every view's depth (the scene's bounds) but colour only of the
+/// views a sample uses.
+RenderedView renderDepth(const SyntheticScene& scene, int index);
+
 /// Near and far bounds of one view for poses_bounds.npy. The depth maps are exact, so there
 /// are no outliers to reject (LLFF takes percentiles of noisy SfM points instead): near =
 /// 0.9 x the smallest depth and far = 1.1 x the largest, so that every surface lies strictly

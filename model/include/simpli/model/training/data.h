@@ -33,6 +33,15 @@ public:
   virtual uint64_t sceneCount() const = 0;
   /// Scene `index`; the reference stays valid until the next call.
   virtual const scene::Scene& scene(uint64_t index) = 0;
+  /// Number of views of scene `index` (without rendering it, where that is cheaper).
+  virtual int frameCount(uint64_t index) { return int(scene(index).size()); }
+  /// Scene `index` with the images of (at least) the views in `frames`; the other views may
+  /// have none: the synthetic source renders only their depth, which is most of a training
+  /// step's scene cost saved. Everything else is as scene(index).
+  virtual const scene::Scene& sceneForFrames(uint64_t index, const std::vector<int>& frames) {
+    (void)frames;
+    return scene(index);
+  }
   /// One line for logs: "3 scenes under /data" or "synthetic scenes, seed 7".
   virtual std::string describe() const = 0;
   /// Ground-truth depth of scene `index` (call scene(index) first): per view, height x width

@@ -86,6 +86,10 @@ public:
   const SamplingConfig& config() const { return config_; }
 
 private:
+  // drawFromScene after its frames are drawn (draw() draws them before the scene's images
+  // exist, so that only those views need rendering; the random stream is the same).
+  TrainingSample drawWithFrames(const scene::Scene& scene, uint64_t sceneIndex,
+                                const std::vector<std::vector<float>>* depths, const FrameDraw& d);
   SamplingConfig config_;
   TrainRandom random_;
 };
