@@ -53,6 +53,39 @@ SurfaceHit castRay(const SyntheticScene& scene, const Ray& ray) {
   return hit;
 }
 
+SurfaceHit castRay(const SyntheticScene& scene, const Ray& ray, const std::vector<int>& shapes) {
+  SurfaceHit hit;
+  for (int i : shapes)
+    if (scene.shape(i).intersect(ray, kMinT, hit))
+      hit.shape = i;
+  return hit;
+}
+
+std::vector<int> shapesThroughWindow(const SyntheticScene& scene, const scene::Camera& camera,
+                                     double u0, double u1, double v0, double v1) {
+  // Camera-space inward normals of the planes through the centre that hold the rays of the
+  // window's edges (a ray's direction is ((u - cx) / fx, (v - cy) / fy, 1)).
+  const double l = (u0 - camera.cx) / camera.fx, r = (u1 - camera.cx) / camera.fx;
+  const double t = (v0 - camera.cy) / camera.fy, b = (v1 - camera.cy) / camera.fy;
+  const Eigen::Vector3d inward[4] = {{1, 0, -l}, {-1, 0, r}, {0, 1, -t}, {0, -1, b}};
+  const Eigen::Vector3d origin = camera.centre();
+  std::vector<int> kept;
+  for (int i = 0; i < scene.shapeCount(); ++i) {
+    const Shape& s = scene.shape(i);
+    const Eigen::Vector3d offset = s.centre - origin;
+    // A margin far above rounding, far below any shape's size: it only keeps a few more.
+    const double margin = 1e-7 * (1 + offset.norm());
+    bool outside = false;
+    for (const Eigen::Vector3d& n : inward) {
+      const Eigen::Vector3d world = (camera.R.transpose() * n).normalized();
+      outside = outside || world.dot(offset) + s.extent(world) < -margin;
+    }
+    if (!outside)
+      kept.push_back(i);
+  }
+  return kept;
+}
+
 Eigen::Vector3d shadeHit(const SyntheticScene& scene, const SurfaceHit& hit) {
   const Shape& s = scene.shape(hit.shape);
   double lambert = hit.normal.dot(scene.lightDirection);
@@ -70,6 +103,35 @@ Eigen::Vector3d missColour(const SyntheticScene& scene, const Ray& ray) {
   return scene.sky.evaluate(Eigen::Vector2d(azimuth, elevation));
 }
 
+namespace {
+
+// The shapes each kTile x kTile block of pixels can see (shapesThroughWindow): most rays test
+// a few of the scene's shapes instead of all of them.
+constexpr int kTile = 16;
+
+class TileShapes {
+public:
+  TileShapes(const SyntheticScene& scene, const scene::Camera& camera)
+      : columns_((camera.width + kTile - 1) / kTile) {
+    const int rows = (camera.height + kTile - 1) / kTile;
+    const double w = camera.width, h = camera.height;
+    for (int ty = 0; ty < rows; ++ty)
+      for (int tx = 0; tx < columns_; ++tx)
+        lists_.push_back(shapesThroughWindow(
+            scene, camera, tx * kTile / w, std::min(w, double((tx + 1) * kTile)) / w,
+            ty * kTile / h, std::min(h, double((ty + 1) * kTile)) / h));
+  }
+  const std::vector<int>& at(int x, int y) const {
+    return lists_[size_t(y / kTile) * size_t(columns_) + size_t(x / kTile)];
+  }
+
+private:
+  int columns_;
+  std::vector<std::vector<int>> lists_;
+};
+
+} // namespace
+
 RenderedView renderView(const SyntheticScene& scene, const scene::Camera& camera,
                         uint64_t jitterSeed) {
   const int w = camera.width, h = camera.height;
@@ -81,6 +143,7 @@ RenderedView renderView(const SyntheticScene& scene, const scene::Camera& camera
   view.height = h;
   view.rgb.assign(size_t(w) * size_t(h) * 3, 0);
   view.depth.assign(size_t(w) * size_t(h), 0.0f);
+  const TileShapes tiles(scene, camera);
 
   // Rows are independent and every sample position is a function of (seed, pixel, sample),
   // so the result does not depend on how the rows are split over threads.
@@ -88,8 +151,9 @@ RenderedView renderView(const SyntheticScene& scene, const scene::Camera& camera
     for (int y = rows.start; y < rows.end; ++y) {
       for (int x = 0; x < w; ++x) {
         const size_t pixel = size_t(y) * size_t(w) + size_t(x);
+        const std::vector<int>& shapes = tiles.at(x, y);
         const Ray centreRay = cameraRay(camera, (x + 0.5) / w, (y + 0.5) / h);
-        const SurfaceHit centre = castRay(scene, centreRay);
+        const SurfaceHit centre = castRay(scene, centreRay, shapes);
         view.depth[pixel] = centre.hit() ? float(centre.t) : 0.0f;
 
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -102,7 +166,7 @@ RenderedView renderView(const SyntheticScene& scene, const scene::Camera& camera
             const double jx = unitFromBits(bits), jy = unitFromBits(mix64(bits));
             const double sx = ((k % aa) + jx) / aa, sy = ((k / aa) + jy) / aa;
             const Ray ray = cameraRay(camera, (x + sx) / w, (y + sy) / h);
-            const SurfaceHit hit = castRay(scene, ray);
+            const SurfaceHit hit = castRay(scene, ray, shapes);
             sum += hit.hit() ? shadeHit(scene, hit) : missColour(scene, ray);
           }
           sum /= double(aa * aa);
@@ -135,11 +199,13 @@ RenderedView renderDepth(const SyntheticScene& scene, int index) {
   view.width = w;
   view.height = h;
   view.depth.assign(size_t(w) * size_t(h), 0.0f);
+  const TileShapes tiles(scene, camera);
   // The centre rays of renderView, so the depths are the same to the bit.
   cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y)
       for (int x = 0; x < w; ++x) {
-        const SurfaceHit centre = castRay(scene, cameraRay(camera, (x + 0.5) / w, (y + 0.5) / h));
+        const Ray ray = cameraRay(camera, (x + 0.5) / w, (y + 0.5) / h);
+        const SurfaceHit centre = castRay(scene, ray, tiles.at(x, y));
         view.depth[size_t(y) * size_t(w) + size_t(x)] = centre.hit() ? float(centre.t) : 0.0f;
       }
   });

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace simpli::synthetic;
@@ -262,4 +263,39 @@ TEST(SyntheticRender, DepthOnlyIsTheRenderedDepth) {
   }
   simpli::test::expectError([&] { renderDepth(scene, int(scene.cameras.size())); },
                             {"renderDepth", "out of range"});
+}
+
+// The per-tile shape lists (shapesThroughWindow) change no pixel: every view of a world scene,
+// cast through all shapes pixel by pixel, gives the renderer's depth and (without
+// antialiasing) its colour; and the lists do leave shapes out, or this would test nothing.
+TEST(SyntheticRender, TileShapeListsChangeNoPixel) {
+  SyntheticSceneParams p = smallParams(96, 64, 3, 17);
+  p.style = SceneStyle::World;
+  p.objects = 10;
+  p.antialias = 1;
+  const SyntheticScene scene = generateSyntheticScene(p);
+  size_t listed = 0, windows = 0;
+  for (int i = 0; i < int(scene.cameras.size()); ++i) {
+    const Camera& camera = scene.cameras[size_t(i)];
+    const RenderedView view = renderView(scene, i);
+    for (int y = 0; y < camera.height; ++y)
+      for (int x = 0; x < camera.width; ++x) {
+        const Ray ray = cameraRay(camera, (x + 0.5) / camera.width, (y + 0.5) / camera.height);
+        const SurfaceHit hit = castRay(scene, ray);
+        ASSERT_EQ(view.depthAt(x, y), hit.hit() ? float(hit.t) : 0.0f) << i << " " << x << " " << y;
+        const Vector3d rgb = hit.hit() ? shadeHit(scene, hit) : missColour(scene, ray);
+        for (int c = 0; c < 3; ++c)
+          ASSERT_EQ(int(view.rgb[(size_t(y) * size_t(camera.width) + size_t(x)) * 3 + size_t(c)]),
+                    int(std::round(std::clamp(rgb[c], 0.0, 1.0) * 255)))
+              << i << " " << x << " " << y;
+      }
+    for (int k = 0; k < 6; ++k) { // windows of 8 x 8 pixels along the diagonal
+      const double u0 = k / 6.0, v0 = k / 6.0, du = 8.0 / camera.width, dv = 8.0 / camera.height;
+      listed += shapesThroughWindow(scene, camera, u0, u0 + du, v0, v0 + dv).size();
+      ++windows;
+    }
+  }
+  EXPECT_LT(double(listed) / double(windows), 0.7 * scene.shapeCount())
+      << "the lists keep most shapes: nothing is culled";
+  EXPECT_EQ(shapesThroughWindow(scene, scene.cameras[0], 0, 1, 0, 1).front(), 0);
 }

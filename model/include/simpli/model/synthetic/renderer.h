@@ -37,6 +37,17 @@ Ray cameraRay(const scene::Camera& camera, double u, double v);
 /// i + 1 = objects[i]); no hit: hit.hit() is false.
 SurfaceHit castRay(const SyntheticScene& scene, const Ray& ray);
 
+/// castRay over the shapes in `shapes` only (ascending indices, e.g. shapesThroughWindow's).
+SurfaceHit castRay(const SyntheticScene& scene, const Ray& ray, const std::vector<int>& shapes);
+
+/// The shapes (ascending indices) that a ray of `camera` through the relative image window
+/// [u0, u1] x [v0, v1] can hit. A shape is left out only when it lies entirely outside one of
+/// the four planes through the camera centre that bound the window's rays (the support
+/// function test with Shape::extent, with a small margin), so castRay among them gives
+/// castRay's hit for every ray through the window. Infinite planes are always kept.
+std::vector<int> shapesThroughWindow(const SyntheticScene& scene, const scene::Camera& camera,
+                                     double u0, double u1, double v0, double v1);
+
 /// RGB in [0, 1] of a hit: its shape's texture times 0.55 + 0.45 * max(0, n . light) (planes
 /// and rectangles are two-sided: |n . light|).
 Eigen::Vector3d shadeHit(const SyntheticScene& scene, const SurfaceHit& hit);
