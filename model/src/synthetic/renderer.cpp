@@ -63,6 +63,8 @@ SurfaceHit castRay(const SyntheticScene& scene, const Ray& ray, const std::vecto
 
 std::vector<int> shapesThroughWindow(const SyntheticScene& scene, const scene::Camera& camera,
                                      double u0, double u1, double v0, double v1) {
+  if (!(u0 <= u1 && v0 <= v1))
+    fail("shapesThroughWindow: empty window u [", u0, ", ", u1, "] x v [", v0, ", ", v1, "]");
   // Camera-space inward normals of the planes through the centre that hold the rays of the
   // window's edges (a ray's direction is ((u - cx) / fx, (v - cy) / fy, 1)).
   const double l = (u0 - camera.cx) / camera.fx, r = (u1 - camera.cx) / camera.fx;

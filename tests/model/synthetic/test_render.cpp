@@ -298,4 +298,6 @@ TEST(SyntheticRender, TileShapeListsChangeNoPixel) {
   EXPECT_LT(double(listed) / double(windows), 0.7 * scene.shapeCount())
       << "the lists keep most shapes: nothing is culled";
   EXPECT_EQ(shapesThroughWindow(scene, scene.cameras[0], 0, 1, 0, 1).front(), 0);
+  simpli::test::expectError([&] { shapesThroughWindow(scene, scene.cameras[0], 0.5, 0.4, 0, 1); },
+                            {"shapesThroughWindow", "empty window", "0.5"});
 }
