@@ -24,6 +24,10 @@ simpli=${SIMPLI:-$root/build/bin/simpli}
 for file in "$config" "$simpli"; do
   [[ -f "$file" ]] || { echo "train-long.sh: $file: no such file" >&2; exit 1; }
 done
+if [[ -n "${SIMPLI_RUN_THREADS:-}" && ! "$SIMPLI_RUN_THREADS" =~ ^[0-9]+$ ]]; then
+  echo "train-long.sh: SIMPLI_RUN_THREADS=$SIMPLI_RUN_THREADS: not a thread count" >&2
+  exit 1
+fi
 if [[ "$init" != none && ! -f "$init" ]]; then
   echo "train-long.sh: SIMPLI_INIT_WEIGHTS=$init: no such file (a weights file or 'none')" >&2
   exit 1
@@ -51,6 +55,17 @@ if [[ ! -f "$run/bin/args" ]]; then
   printf '%s\n' "${SIMPLI_TRAIN_ARGS:-}" > "$run/bin/args"
 fi
 read -r -a extra_args < "$run/bin/args" || true
+# SIMPLI_RUN_THREADS=N: the run's threads (PoCL, OpenBLAS, OpenCV), kept in RUN_DIR/bin/threads
+# on the first launch that gives it (0 or unset: the libraries' defaults, all cores). Two runs
+# on 2 cores go faster with 1 thread each than sharing both: a step takes 1.55x as long on 1
+# thread as on 2 (tiny, wide-crop recipe), against 2x for time-sharing (docs/training.md).
+if [[ -n "${SIMPLI_RUN_THREADS:-}" ]]; then
+  echo "$SIMPLI_RUN_THREADS" > "$run/bin/threads"
+fi
+threads=$(cat "$run/bin/threads" 2> /dev/null || echo 0)
+if [[ "$threads" != 0 ]]; then
+  export POCL_MAX_PTHREAD_COUNT=$threads OPENBLAS_NUM_THREADS=$threads OPENCV_FOR_THREADS_NUM=$threads
+fi
 if [[ -n "$(ls -A "$run/out/checkpoints" 2>/dev/null)" ]]; then
   echo "$(date -Is) resuming $run/out" >> "$run/launch.log"
   args=(--out "$run/out" --resume --checkpoint-every "$every")
@@ -71,6 +86,7 @@ if [[ -n "${SIMPLI_VALIDATE:-}" ]]; then
 fi
 args+=("${extra_args[@]}")
 cd "$run"
+echo "$(date -Is) threads: ${threads/#0/all cores}" >> "$run/launch.log"
 nohup nice -n "${SIMPLI_NICE:-15}" "$run/bin/simpli" train synthetic:1 "${args[@]}" >> "$run/train.log" 2>&1 &
 echo "$!" > "$run/pid"
 echo "training in the background: pid $(cat "$run/pid"), log $run/train.log"

@@ -32,12 +32,21 @@ bash "$script" "$work/bad" "$work/missing.json" 2> "$work/err_bad_config" &&
   fail "a missing config was accepted"
 grep -q "missing.json: no such file" "$work/err_bad_config" || fail "no named error for the config"
 
-SIMPLI_INIT_WEIGHTS=none SIMPLI_TRAIN_ARGS="--size 48x32 --steps 2" launch "$work/random"
+SIMPLI_RUN_THREADS=two bash "$script" "$work/bad" "$config" 2> "$work/err_bad_threads" &&
+  fail "a bad SIMPLI_RUN_THREADS was accepted"
+grep -q "SIMPLI_RUN_THREADS=two: not a thread count" "$work/err_bad_threads" ||
+  fail "no named error for the thread count"
+[ ! -e "$work/bad" ] || fail "a refused launch left a run folder behind"
+
+SIMPLI_RUN_THREADS=1 SIMPLI_INIT_WEIGHTS=none SIMPLI_TRAIN_ARGS="--size 48x32 --steps 2" \
+  launch "$work/random"
+grep -q "threads: 1" "$work/random/launch.log" || fail "launch.log does not give the threads"
 grep -q "random initialisation" "$work/random/launch.log" || fail "launch.log does not say random"
 grep -q "finished at step 2 of 2" "$work/random/train.log" || fail "random run did not finish"
 # Resumed: the stored options (2 steps) hold, the new ones are ignored.
 SIMPLI_TRAIN_ARGS="--size 64x48 --steps 3" launch "$work/random"
 grep -q "resuming" "$work/random/launch.log" || fail "second launch did not resume"
+[ "$(grep -c "threads: 1" "$work/random/launch.log")" -eq 2 ] || fail "resume lost the threads"
 [ "$(grep -c "finished at step 2 of 2" "$work/random/train.log")" -eq 2 ] ||
   fail "the resumed run did not keep its stored options"
 
