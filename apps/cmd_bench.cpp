@@ -8,8 +8,9 @@
 // OPENBLAS_L2_SIZE) from the environment; an environment that forces an older kernel (this
 // machine's sets Haswell on an AVX-512 CPU) would make the reference look 2.5x slower than the
 // real library. So `bench ops`, `bench infer` and `bench train` re-execute themselves with those
-// variables removed before anything else runs (reexecBenchmarkWithNativeBlas, called first in main)
-// and print the kernel OpenBLAS picked. SIMPLI_BENCH_BLAS_ENV=keep keeps the environment as it is.
+// variables removed before anything else runs (blas_environment.h, called first in main) and
+// print the kernel OpenBLAS picked. SIMPLI_BENCH_BLAS_ENV=keep keeps the environment as it is.
+#include "blas_environment.h"
 #include "commands.h"
 
 #include "simpli/error.h"
@@ -21,39 +22,20 @@
 #include <CLI/CLI.hpp>
 #include <cblas.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <functional>
 #include <iostream>
 #include <string>
 #include <thread>
 #include <vector>
 
-extern char** environ;
-
 namespace simpli::app {
 namespace {
-
-// Set in the re-executed benchmark: the variables it removed ("NAME=value ..."; may be empty).
-constexpr const char* kReexecMarker = "SIMPLI_BENCH_NATIVE_BLAS";
-constexpr const char* kForcingVariables[] = {"OPENBLAS_CORETYPE", "OPENBLAS_L2_SIZE"};
-
-bool isForcingVariable(const char* entry) {
-  for (const char* name : kForcingVariables) {
-    const std::size_t n = std::strlen(name);
-    if (std::strncmp(entry, name, n) == 0 && entry[n] == '=')
-      return true;
-  }
-  return false;
-}
 
 using Clock = std::chrono::steady_clock;
 
@@ -330,7 +312,7 @@ void runConvPaths(bool quick, int warmup, int repeat) {
 // One line on the OpenBLAS build, the kernel it runs and where the choice came from.
 void printBlasKernel(int threads) {
   std::printf("openblas %s, %d thread(s)\n", openblas_get_config(), threads);
-  const char* removed = std::getenv(kReexecMarker);
+  const char* removed = removedBlasVariables();
   const char* forced = std::getenv("OPENBLAS_CORETYPE");
   if (removed && *removed)
     std::printf("kernel   %s (native: removed %s for this process)\n", openblas_get_corename(),
@@ -398,40 +380,6 @@ void runOps(int repeat, bool quick, bool pathsOnly, const std::string& selector)
 }
 
 } // namespace
-
-void reexecBenchmarkWithNativeBlas(int argc, char** argv) {
-  if (argc < 3 || std::strcmp(argv[1], "bench") != 0 ||
-      (std::strcmp(argv[2], "ops") != 0 && std::strcmp(argv[2], "infer") != 0 &&
-       std::strcmp(argv[2], "train") != 0))
-    return;
-  if (std::getenv(kReexecMarker)) // already re-executed
-    return;
-  const char* keep = std::getenv("SIMPLI_BENCH_BLAS_ENV");
-  if (keep && std::string(keep) == "keep")
-    return;
-  std::vector<std::string> kept;
-  std::string removed;
-  for (char** e = environ; *e; ++e) {
-    if (isForcingVariable(*e))
-      removed += (removed.empty() ? "" : " ") + std::string(*e);
-    else
-      kept.emplace_back(*e);
-  }
-  if (removed.empty())
-    return;
-  kept.push_back(std::string(kReexecMarker) + "=" + removed);
-  std::vector<char*> envp;
-  for (std::string& k : kept)
-    envp.push_back(k.data());
-  envp.push_back(nullptr);
-  std::fflush(nullptr);
-  execve("/proc/self/exe", argv, envp.data());
-  // Not fatal: the benchmark runs with the forced kernel and says so.
-  std::fprintf(stderr,
-               "simpli bench: could not re-execute without %s (%s); OpenBLAS keeps the "
-               "forced kernel\n",
-               removed.c_str(), std::strerror(errno));
-}
 
 void addBenchInferCommand(CLI::App& bench); // cmd_bench_infer.cpp
 void addBenchTrainCommand(CLI::App& bench); // cmd_bench_train.cpp

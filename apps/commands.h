@@ -17,8 +17,4 @@ void addRenderCommand(CLI::App& app);
 void addInferCommand(CLI::App& app);
 void addTrainCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
-/// `simpli bench ops|infer|train` only: re-executes the process with OPENBLAS_CORETYPE and
-/// OPENBLAS_L2_SIZE removed from its environment, so that OpenBLAS loads its native kernel
-/// (cmd_bench.cpp). Call first in main, before any thread starts; returns when nothing to do.
-void reexecBenchmarkWithNativeBlas(int argc, char** argv);
 } // namespace simpli::app

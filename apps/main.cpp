@@ -1,4 +1,5 @@
 // simpli: command line entry point.
+#include "blas_environment.h"
 #include "commands.h"
 #include "stop_signals.h"
 
@@ -26,7 +27,7 @@ int reportError(const char* kind, const char* what, int code) {
 } // namespace
 
 int main(int argc, char** argv) {
-  simpli::app::reexecBenchmarkWithNativeBlas(argc, argv); // before MPI and any thread
+  simpli::app::reexecWithBlasEnvironment(argc, argv); // before MPI and any thread
   // MPI first, while the stop signals are still blocked (stop_signals.cpp): the threads it
   // starts keep them blocked, so SIGINT / SIGTERM reach the main thread's polling.
   std::unique_ptr<simpli::parallel::Session> mpi;

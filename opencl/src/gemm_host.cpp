@@ -97,11 +97,15 @@ std::string gemmBackendSummary() {
   Device& device = Device::current();
   const GemmBackend b = resolvedFor(device);
   std::string s = toString(b);
-  if (b == GemmBackend::Host)
+  if (b == GemmBackend::Host) {
+    // How long idle worker threads spin (2^N cycles), read by OpenBLAS when it loaded.
+    const char* timeout = std::getenv("OPENBLAS_THREAD_TIMEOUT");
     s += std::string(" (") + openblas_get_config() + ", core " + openblas_get_corename() + ", " +
-         std::to_string(openblas_get_num_threads()) + " thread(s))";
-  else
+         std::to_string(openblas_get_num_threads()) +
+         " thread(s), OPENBLAS_THREAD_TIMEOUT=" + (timeout ? timeout : "unset") + ")";
+  } else {
     s += " (CLBlast, skinny kernels)";
+  }
   s += std::string("; SIMPLI_GEMM=") + toString(gemmBackendSetting()) + ", " +
        (isCpuDevice(device) ? "CPU" : "non-CPU") + " device";
   return s;
