@@ -254,4 +254,40 @@ TEST(TrainData, DrawRendersOnlyItsFramesAndGivesTheFullDraw) {
   }
 }
 
+// Draws from a mixture go through its parts' frameCount / sceneForFrames: synthetic samples
+// render colour for their frames only and equal the lone source's draws; folder samples read
+// their scene whole.
+TEST(TrainData, MixtureDrawsRenderOnlyTheirFrames) {
+  DataOptions o = smallSynthetic();
+  o.synthetic.views = 6;
+  const std::string folder = std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic/scene_01";
+  auto mixed = openTrainingData({{"synthetic:4", 1.0}, {folder, 1.0}}, o);
+  SamplingConfig c;
+  c.minViews = 2;
+  c.maxViews = 2;
+  c.novelViews = 1;
+  Sampler sampler(c, 5);
+  int synthetic = 0, folders = 0;
+  for (int k = 0; k < 10; ++k) {
+    const TrainingSample s = sampler.draw(*mixed);
+    ASSERT_EQ(s.sources.size(), 2u);
+    ASSERT_EQ(s.targets.size(), 1u);
+    const scene::Scene& scene = mixed->sceneForFrames(s.sceneIndex, {});
+    size_t rendered = 0;
+    for (const scene::SceneView& v : scene.views)
+      rendered += v.image.empty() ? 0 : 1;
+    if (s.sceneRoot == folder) {
+      ++folders;
+      EXPECT_EQ(rendered, scene.size());
+      EXPECT_TRUE(s.targetDepths.empty());
+    } else {
+      ++synthetic;
+      EXPECT_EQ(rendered, 3u) << k;
+      EXPECT_EQ(s.targetDepths.size(), 1u);
+    }
+  }
+  EXPECT_GT(synthetic, 0);
+  EXPECT_GT(folders, 0);
+}
+
 } // namespace simpli::training
