@@ -7,7 +7,10 @@
 # SIMPLI_UPDATE_BINARY=1 replaces the run's copy of the binary with the tree's (SIMPLI=PATH: another
 # binary than build/bin/simpli).
 # SIMPLI_TRAIN_ARGS="--size 128x96 ..." adds options to `simpli train`; they are kept in
-# RUN_DIR/bin/args on the first launch and reused when the run resumes.
+# RUN_DIR/bin/args on the first launch and reused when the run resumes. SIMPLI_VALIDATE,
+# SIMPLI_VALIDATE_EVERY, SIMPLI_CHECKPOINT_EVERY (default 20) and SIMPLI_RUN_THREADS are kept in
+# RUN_DIR/bin as well, each when given, so resuming is `bash scripts/train-long.sh RUN_DIR`;
+# launch.log records every launch's command line.
 # If RUN_DIR holds a checkpoint the run resumes from it; otherwise it warm-starts from the
 # shipped weights (model/weights/default.safetensors) and says so in RUN_DIR/launch.log;
 # SIMPLI_INIT_WEIGHTS=FILE starts from FILE instead, =none from a random initialisation (a
@@ -24,6 +27,16 @@ simpli=${SIMPLI:-$root/build/bin/simpli}
 for file in "$config" "$simpli"; do
   [[ -f "$file" ]] || { echo "train-long.sh: $file: no such file" >&2; exit 1; }
 done
+for name in SIMPLI_CHECKPOINT_EVERY SIMPLI_VALIDATE_EVERY; do
+  if [[ -n "${!name:-}" && ! "${!name}" =~ ^[1-9][0-9]*$ ]]; then
+    echo "train-long.sh: $name=${!name}: not a positive step count" >&2
+    exit 1
+  fi
+done
+if [[ -n "${SIMPLI_VALIDATE:-}" && ! -d "$SIMPLI_VALIDATE" ]]; then
+  echo "train-long.sh: SIMPLI_VALIDATE=$SIMPLI_VALIDATE: no such scene folder" >&2
+  exit 1
+fi
 if [[ -n "${SIMPLI_RUN_THREADS:-}" && ! "$SIMPLI_RUN_THREADS" =~ ^[0-9]+$ ]]; then
   echo "train-long.sh: SIMPLI_RUN_THREADS=$SIMPLI_RUN_THREADS: not a thread count" >&2
   exit 1
@@ -50,7 +63,21 @@ fi
 mkdir -p "$run/model/configs/training"
 cp -n "$root"/model/configs/*.json "$run/model/configs/" 2>/dev/null || true
 cp -n "$run/bin/config.json" "$run/model/configs/training/run.json"
-every=${SIMPLI_CHECKPOINT_EVERY:-20}
+# Settings given by the environment are kept in RUN_DIR/bin and reused when a later launch does
+# not give them, so a resume is `bash scripts/train-long.sh RUN_DIR` alone.
+remember() { # NAME VALUE DEFAULT: VALUE if given (and stored), else the stored value, else DEFAULT
+  if [[ -n "$2" ]]; then
+    printf '%s\n' "$2" > "$run/bin/$1"
+    echo "$2"
+  elif [[ -f "$run/bin/$1" ]]; then
+    cat "$run/bin/$1"
+  else
+    echo "$3"
+  fi
+}
+every=$(remember checkpoint_every "${SIMPLI_CHECKPOINT_EVERY:-}" 20)
+validate=$(remember validate "${SIMPLI_VALIDATE:-}" "")
+validate_every=$(remember validate_every "${SIMPLI_VALIDATE_EVERY:-}" 100)
 if [[ ! -f "$run/bin/args" ]]; then
   printf '%s\n' "${SIMPLI_TRAIN_ARGS:-}" > "$run/bin/args"
 fi
@@ -81,12 +108,12 @@ else
       "(tree at $(git -C "$root" rev-parse --short HEAD 2> /dev/null || echo unknown))" >> "$run/launch.log"
   fi
 fi
-if [[ -n "${SIMPLI_VALIDATE:-}" ]]; then
-  args+=(--validate "$SIMPLI_VALIDATE" --validate-every "${SIMPLI_VALIDATE_EVERY:-100}")
+if [[ -n "$validate" ]]; then
+  args+=(--validate "$validate" --validate-every "$validate_every")
 fi
 args+=("${extra_args[@]}")
 cd "$run"
-echo "$(date -Is) threads: ${threads/#0/all cores}" >> "$run/launch.log"
+echo "$(date -Is) threads: ${threads/#0/all cores}; simpli train synthetic:1 ${args[*]}" >> "$run/launch.log"
 nohup nice -n "${SIMPLI_NICE:-15}" "$run/bin/simpli" train synthetic:1 "${args[@]}" >> "$run/train.log" 2>&1 &
 echo "$!" > "$run/pid"
 echo "training in the background: pid $(cat "$run/pid"), log $run/train.log"

@@ -38,8 +38,17 @@ grep -q "SIMPLI_RUN_THREADS=two: not a thread count" "$work/err_bad_threads" ||
   fail "no named error for the thread count"
 [ ! -e "$work/bad" ] || fail "a refused launch left a run folder behind"
 
+for bad in SIMPLI_CHECKPOINT_EVERY=0 SIMPLI_VALIDATE_EVERY=x SIMPLI_VALIDATE=$work/nowhere; do
+  env "$bad" bash "$script" "$work/bad" "$config" 2> "$work/err_bad_env" && fail "$bad was accepted"
+  grep -q "${bad%%=*}=${bad#*=}: " "$work/err_bad_env" || fail "no named error for $bad"
+  [ ! -e "$work/bad" ] || fail "a refused launch ($bad) left a run folder behind"
+done
+
+scene="$root/datasets_small/synthetic/scene_00"
 SIMPLI_RUN_THREADS=1 SIMPLI_INIT_WEIGHTS=none SIMPLI_TRAIN_ARGS="--size 48x32 --steps 2" \
-  launch "$work/random"
+  SIMPLI_VALIDATE="$scene" SIMPLI_VALIDATE_EVERY=7 launch "$work/random"
+grep -q -- "--validate $scene --validate-every 7" "$work/random/launch.log" ||
+  fail "the first launch does not validate"
 grep -q "threads: 1" "$work/random/launch.log" || fail "launch.log does not give the threads"
 grep -q "random initialisation" "$work/random/launch.log" || fail "launch.log does not say random"
 grep -q "finished at step 2 of 2" "$work/random/train.log" || fail "random run did not finish"
@@ -47,6 +56,10 @@ grep -q "finished at step 2 of 2" "$work/random/train.log" || fail "random run d
 SIMPLI_TRAIN_ARGS="--size 64x48 --steps 3" launch "$work/random"
 grep -q "resuming" "$work/random/launch.log" || fail "second launch did not resume"
 [ "$(grep -c "threads: 1" "$work/random/launch.log")" -eq 2 ] || fail "resume lost the threads"
+[ "$(grep -c -- "--validate $scene --validate-every 7" "$work/random/launch.log")" -eq 2 ] ||
+  fail "resume lost the validation settings"
+[ "$(grep -c -- "--checkpoint-every 1" "$work/random/launch.log")" -eq 2 ] ||
+  fail "resume lost the checkpoint interval"
 [ "$(grep -c "finished at step 2 of 2" "$work/random/train.log")" -eq 2 ] ||
   fail "the resumed run did not keep its stored options"
 
