@@ -140,6 +140,7 @@ int runInfer(const InferOptions& o) {
   if (o.corrections < -1)
     fail("--corrections ", o.corrections, ": must be >= 0 (or -1 for all)");
   generator::checkInputScale(o.inputScale, "--input-scale");
+  checkReferenceMargin(o.referenceMargin);
   if (o.out.empty())
     fail("--out: an output folder is required");
   if (isSceneCollection(o.scene))
@@ -182,6 +183,7 @@ void loadInferNetwork(const InferOptions& o, InferNetwork& net) {
          config.mliCorrections(), " corrections");
   net.build.corrections = o.corrections;
   net.build.inputScale = o.inputScale;
+  net.build.referenceMargin = o.referenceMargin;
   net.build.keepOutput = true; // for --render-views
   net.build.dropEmptyBelow = layersThreshold(o.layers, config);
   net.loaded = &loaded;
@@ -389,6 +391,7 @@ void addInferCommand(CLI::App& app) {
                   "Resize the sources by this factor (0, 2] before the network: the MLI is built "
                   "at that size (the shipped network holds best near 256x192, README)")
       ->capture_default_str();
+  addReferenceMarginOption(*cmd, o->referenceMargin);
   CLI::Option* renderViews =
       cmd->add_option(
              "--render-views", o->renderViews,

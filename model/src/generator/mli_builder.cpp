@@ -92,6 +92,7 @@ MLIBuild MLIBuilder::build(const scene::Scene& scene, const MLIBuildOptions& opt
   inputOptions.views = result.views;
   inputOptions.depthRange = options.depthRange;
   inputOptions.inputScale = options.inputScale;
+  inputOptions.referenceMargin = options.referenceMargin;
   result.input = sceneInput(scene, inputOptions);
 
   const int corrections =

@@ -88,7 +88,8 @@ GeneratorInput sceneInput(const scene::Scene& scene, const SceneInputOptions& op
     images.push_back(&view.image);
     cameras.push_back(view.camera);
   }
-  const scene::Camera reference = scene::referenceCamera(cameras);
+  const scene::Camera reference =
+      scene::widenedCamera(scene::referenceCamera(cameras), options.referenceMargin);
   GeneratorInput input =
       scaledInput(images, std::move(cameras), reference, options.inputScale, options.dtype);
   if (options.depthRange == DepthRangeSource::Scene) {

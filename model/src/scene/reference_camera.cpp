@@ -48,4 +48,18 @@ Camera referenceCamera(const std::vector<Camera>& sources) {
   return ref;
 }
 
+Camera widenedCamera(const Camera& camera, double margin) {
+  if (!(margin >= 0 && margin <= 0.5))
+    fail("reference margin ", margin,
+         ": must be between 0 and 0.5 (a fraction of the image "
+         "size added on every side)");
+  Camera wide = camera;
+  const double scale = 1 + 2 * margin;
+  wide.fx /= scale;
+  wide.fy /= scale;
+  wide.cx = (camera.cx + margin) / scale;
+  wide.cy = (camera.cy + margin) / scale;
+  return wide;
+}
+
 } // namespace simpli::scene

@@ -3,6 +3,7 @@
 
 #include "simpli/error.h"
 #include "simpli/model/generator/generator.h"
+#include "simpli/model/scene/reference_camera.h"
 #include "simpli/model/training/sampler.h"
 #include "simpli/model/training/trainer.h"
 
@@ -67,8 +68,11 @@ void forEachEvalSample(
     if (int(scene.size()) < o.views + 1)
       fail("evaluate: scene ", scene.root, " has ", scene.size(), " views; ", o.views,
            " sources need at least ", o.views + 1);
-    for (int r = 0; r < o.repeats; ++r)
-      onSample(sampler.drawFromScene(scene, si), si, r);
+    for (int r = 0; r < o.repeats; ++r) {
+      TrainingSample s = sampler.drawFromScene(scene, si);
+      s.reference = scene::widenedCamera(s.reference, o.referenceMargin);
+      onSample(s, si, r);
+    }
   }
 }
 

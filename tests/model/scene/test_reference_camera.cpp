@@ -93,3 +93,27 @@ TEST(ReferenceCamera, MatchesGolden) {
   EXPECT_EQ(ref.fx, cams[0].fx);
   EXPECT_EQ(ref.cy, cams[0].cy);
 }
+
+// widenedCamera: the same pose and pixel grid over a wider field of view; a point at relative
+// u maps to (u + m) / (1 + 2 m), so the old frame's edges land m / (1 + 2 m) inside the new one.
+TEST(ReferenceCamera, WidenedCameraKeepsPoseAndMapsTheOldFrameInside) {
+  const scene::Camera c = test::makeRig(3)[1];
+  const double m = 0.06;
+  const scene::Camera w = scene::widenedCamera(c, m);
+  EXPECT_EQ(w.R, c.R);
+  EXPECT_EQ(w.t, c.t);
+  EXPECT_EQ(w.width, c.width);
+  EXPECT_EQ(w.height, c.height);
+  for (const Eigen::Vector2d& uv : {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1),
+                                   Eigen::Vector2d(0.3, 0.8), Eigen::Vector2d(-m, 1 + m)}) {
+    const Eigen::Vector3d X = c.backproject(uv, 4.5);
+    const Eigen::Vector2d expected = (uv.array() + m) / (1 + 2 * m);
+    EXPECT_LT((w.project(X) - expected).cwiseAbs().maxCoeff(), 1e-12) << uv.transpose();
+  }
+  const scene::Camera same = scene::widenedCamera(c, 0);
+  EXPECT_EQ(same.fx, c.fx);
+  EXPECT_EQ(same.cx, c.cx);
+  for (double bad : {-0.01, 0.51, std::nan("")})
+    test::expectError([&] { scene::widenedCamera(c, bad); },
+                      {"reference margin", "between 0 and 0.5"});
+}

@@ -32,8 +32,9 @@ struct NetworkSource {
 struct MLIBuildOptions {
   std::vector<int> views; ///< source view indices; empty = every view
   DepthRangeSource depthRange = DepthRangeSource::Config;
-  int corrections = -1;    ///< MLI corrections to run; -1 = all of the config's
-  double inputScale = 1.0; ///< SceneInputOptions::inputScale: the MLI is built at that size
+  int corrections = -1;         ///< MLI corrections to run; -1 = all of the config's
+  double inputScale = 1.0;      ///< SceneInputOptions::inputScale: the MLI is built at that size
+  double referenceMargin = 0.0; ///< SceneInputOptions::referenceMargin
   /// Surfaces whose largest alpha is below this are left out of the MLI (toMLI); 0 keeps all.
   float dropEmptyBelow = 0.0f;
   /// Keep the pass's GeneratorOutput (device tensors) in the result, e.g. to render views;

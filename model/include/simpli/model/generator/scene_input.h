@@ -25,6 +25,8 @@ struct SceneInputOptions {
   /// built at that size); 1 = as they are. A network holds best near the size it was trained
   /// at (README, "Input size").
   double inputScale = 1.0;
+  /// The reference camera widened by this fraction on every side (scene::widenedCamera).
+  double referenceMargin = 0.0;
 };
 
 /// `size` x `scale` rounded to a multiple of 16 (the network's grid), at least 16.

@@ -34,6 +34,9 @@ struct EvalOptions {
   /// The sources are resized by this factor before the network (sampleInput); the MLI is built
   /// at that size and rendered into the targets at theirs. 1 = the sources as they are.
   double inputScale = 1.0;
+  /// Every sample's reference camera widened by this fraction on every side
+  /// (scene::widenedCamera): the MLI also covers what the targets see beyond the sources.
+  double referenceMargin = 0.0;
   /// One untimed forward pass before the first timed one (PoCL compiles kernels on first use);
   /// off where build time is not reported (validation during training).
   bool warmUp = true;
