@@ -45,8 +45,12 @@ inline REAL8 load8(__global const REAL* row, const int q0, const int step, const
   if (q0 >= 0) {
     if (step == 1 && q0 + 8 <= n)
       return vload8(0, row + q0);
-    if (step == 2 && q0 + 16 <= n)
-      return vload16(0, row + q0).even;
+    if (step == 2 && q0 + 16 <= n) {
+      // Two 8-wide loads, not one 16-wide: PoCL warns that a 16-float vector return changes
+      // the ABI on CPUs without AVX-512 (printed as "1 warning generated." on a cold cache).
+      const REAL8 lo = vload8(0, row + q0), hi = vload8(0, row + q0 + 8);
+      return (REAL8)(lo.even, hi.even);
+    }
   }
   REAL v[8];
   for (int k = 0; k < 8; ++k) {
