@@ -12,6 +12,7 @@
 #include "simpli/model/io/staged_folder.h"
 #include "simpli/model/metrics/comparison_grid.h"
 #include "simpli/model/network/loader.h"
+#include "simpli/model/scene/reference_camera.h"
 #include "simpli/model/training/config.h"
 #include "simpli/model/training/eval.h"
 #include "simpli/ocl/device.h"
@@ -34,7 +35,9 @@ struct EvalCliOptions {
   std::string data, config, size, device, dtype = "f32", protocol = "none", out;
   int repeats = 1, views = 4, novel = 4, window = 0, scenes = 1, corrections = -1, factor = 0;
   double inputScale = 1.0;
-  double referenceMargin = 0.0;
+  /// One for every network, or one per --weights entry (the same weights with two margins is a
+  /// paired comparison of the margins).
+  std::vector<double> referenceMargins{0.0};
   int64_t seed = 0;
   // Which of the protocol's settings the user gave explicitly (those win over the protocol).
   bool givenSize = false, givenViews = false, givenNovel = false, givenRepeats = false,
@@ -88,10 +91,11 @@ void prepareOutFolder(const std::string& out) {
 
 // One row per scored view and network: the frames, the network's and the baseline's scores.
 void writeViewsCsv(const std::string& path, const std::vector<std::string>& weights,
+                   const std::vector<double>& margins,
                    const std::vector<training::EvalResult>& results) {
   std::ostringstream csv;
   csv << "network,weights,scene,sample,target_frame,source_frames,nearest_frame,psnr,ssim,"
-         "nearest_psnr,nearest_ssim\n";
+         "nearest_psnr,nearest_ssim,reference_margin\n";
   csv.precision(6);
   for (size_t n = 0; n < results.size(); ++n) {
     const training::EvalResult& r = results[n];
@@ -100,7 +104,7 @@ void writeViewsCsv(const std::string& path, const std::vector<std::string>& weig
       csv << n + 1 << ',' << csvQuote(weights[n]) << ',' << w.scene << ',' << w.sample << ','
           << w.targetFrame << ',' << frameList(w.sourceFrames) << ',' << w.nearestFrame << ','
           << std::fixed << r.model[v].psnr << ',' << r.model[v].ssim << ',' << r.baseline[v].psnr
-          << ',' << r.baseline[v].ssim << std::defaultfloat << '\n';
+          << ',' << r.baseline[v].ssim << std::defaultfloat << ',' << margins[n] << '\n';
     }
   }
   const std::string text = csv.str();
@@ -124,7 +128,13 @@ void runEval(EvalCliOptions o) {
   if (o.scenes < 1)
     fail("--scenes ", o.scenes, ": must be >= 1");
   generator::checkInputScale(o.inputScale, "--input-scale");
-  checkReferenceMargin(o.referenceMargin);
+  for (double m : o.referenceMargins)
+    checkReferenceMargin(m);
+  if (o.referenceMargins.size() == 1)
+    o.referenceMargins.resize(o.weights.size(), o.referenceMargins[0]);
+  if (o.referenceMargins.size() != o.weights.size())
+    fail("--reference-margin: ", o.referenceMargins.size(), " values for ", o.weights.size(),
+         " networks (give one for all, or one per --weights entry)");
   if (o.seed < 0)
     fail("--seed ", o.seed, ": must be >= 0");
   if (o.dtype != "f32" && o.dtype != "f64")
@@ -167,7 +177,6 @@ void runEval(EvalCliOptions o) {
   e.seed = uint64_t(o.seed);
   e.corrections = o.corrections;
   e.inputScale = o.inputScale;
-  e.referenceMargin = o.referenceMargin;
   const uint64_t scenes = source->sceneCount() > 0 ? source->sceneCount() : uint64_t(o.scenes);
   const int64_t perNetwork = int64_t(scenes) * o.repeats;
   ProgressBar bar("eval", perNetwork * int64_t(networks.size()));
@@ -184,13 +193,15 @@ void runEval(EvalCliOptions o) {
       io::writeImagePng(metrics::sideBySide({&v.truth, &v.render, &error, &v.nearest}),
                         (std::filesystem::path(o.out) / name).string());
     };
+    e.referenceMargin = o.referenceMargins[i];
     results.push_back(training::evaluate(
         *networks[i], *source, e,
         [&](int done, int) { bar.update(int64_t(i) * perNetwork + done); }, picture));
   }
   bar.finish();
   if (!o.out.empty())
-    writeViewsCsv((std::filesystem::path(o.out) / "views.csv").string(), o.weights, results);
+    writeViewsCsv((std::filesystem::path(o.out) / "views.csv").string(), o.weights,
+                  o.referenceMargins, results);
 
   const training::EvalResult& first = results[0];
   const scene::Scene& scene0 = source->scene(0);
@@ -210,9 +221,11 @@ void runEval(EvalCliOptions o) {
   auto label = [&](size_t i) { return several ? "model " + std::to_string(i + 1) : "model"; };
   for (size_t i = 0; i < networks.size(); ++i) {
     const network::NetworkConfig& c = networks[i]->config();
-    std::printf("  %-22s %s (config %s, %d %s; building them %.0f +- %.0f ms per sample)\n",
+    std::printf("  %-22s %s (config %s, %d %s; reference margin %g; building them %.0f +- %.0f "
+                "ms per sample)\n",
                 label(i).c_str(), o.weights[i].c_str(), c.name.c_str(), c.surfaces(),
-                c.mpiOnly ? "planes" : "layers", results[i].build.mean, results[i].build.std);
+                c.mpiOnly ? "planes" : "layers", o.referenceMargins[i], results[i].build.mean,
+                results[i].build.std);
   }
   auto line = [](const std::string& name, const metrics::MeanStd& psnr,
                  const metrics::MeanStd& ssim) {
@@ -251,8 +264,8 @@ void addReferenceMarginOption(CLI::App& cmd, double& margin) {
 }
 
 void checkReferenceMargin(double margin) {
-  if (!(margin >= 0 && margin <= 0.5))
-    fail("--reference-margin ", margin, ": must be between 0 and 0.5");
+  if (!(margin >= 0 && margin <= scene::maxReferenceMargin))
+    fail("--reference-margin ", margin, ": must be between 0 and ", scene::maxReferenceMargin);
 }
 
 void addEvalCommand(CLI::App& app) {
@@ -295,7 +308,12 @@ void addEvalCommand(CLI::App& app) {
                   "Resize the sources by this factor (0, 2] before the network; the MLI is "
                   "rendered into the novel views at their size")
       ->capture_default_str();
-  addReferenceMarginOption(*cmd, opts->referenceMargin);
+  cmd->add_option("--reference-margin", opts->referenceMargins,
+                  "Widen the reference camera (the MLI's frame) by this fraction of the image on "
+                  "every side, 0 to 0.5; one value, or one per --weights entry (paired: "
+                  "--weights W,W --reference-margin 0,0.06)")
+      ->delimiter(',')
+      ->capture_default_str();
   cmd->add_option("--corrections", opts->corrections, "MLI corrections to run (-1 = all)")
       ->capture_default_str();
   cmd->add_option("--size", opts->size, "Resize the images to WIDTHxHEIGHT (multiples of 16)");

@@ -166,7 +166,7 @@ int runTrain(const TrainCliOptions& o) {
   training::Trainer trainer(config.get(), t);
   running = &trainer;
   if (root) {
-    monitor.begin(o.resume ? trainer.startStep() : -1);
+    monitor.begin(o.resume ? trainer.startStep() : -1, trainer.config().sampling.referenceMargin);
     bar = std::make_unique<ProgressBar>("train", trainer.totalSteps(), trainer.startStep());
   }
   const training::Trainer::RunResult result = trainer.run();

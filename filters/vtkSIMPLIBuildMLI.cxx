@@ -20,6 +20,7 @@
 #include "simpli/model/mli/mli.h"
 #include "simpli/model/network/loader.h"
 #include "simpli/model/parallel/communicator.h"
+#include "simpli/model/scene/reference_camera.h"
 #include "simpli/model/scene/scene.h"
 
 #include <chrono>
@@ -258,6 +259,8 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
                                  : simpli::generator::DepthRangeSource::Config;
         options.corrections = this->CorrectionSteps;
         options.inputScale = this->InputScale;
+        static_assert(simpli::scene::maxReferenceMargin == 0.5, "ReferenceMargin's clamp");
+        options.referenceMargin = this->ReferenceMargin;
         const Progress pass = progress.range(0.2, 0.85);
         options.progress = [&pass](const std::string&, int done, int total) {
           return pass(static_cast<double>(done) / total);
@@ -318,6 +321,7 @@ void vtkSIMPLIBuildMLI::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "NumberOfPlanes: " << this->NumberOfPlanes << "\n";
   os << indent << "CorrectionSteps: " << this->CorrectionSteps << "\n";
   os << indent << "InputScale: " << this->InputScale << "\n";
+  os << indent << "ReferenceMargin: " << this->ReferenceMargin << "\n";
   os << indent << "SourceViews: " << (this->SourceViews ? this->SourceViews : "(all)") << "\n";
   os << indent << "DepthRange: " << (this->DepthRange == DEPTH_RANGE_SCENE ? "Scene" : "Config")
      << "\n";

@@ -54,7 +54,7 @@ scene = SIMPLISceneReader(FileName=args.scene)  # noqa: F821  (defined by LoadPl
 build = SIMPLIBuildMLI(Input=OutputPort(scene, 0))  # noqa: F821
 expected = {"Input", "SceneFileName", "WeightsFile", "Config", "SourceViews", "DropEmptyLayers",
             "EmptyLayerThreshold", "DropTransparentTriangles", "DepthRange", "CorrectionSteps",
-            "NumberOfPlanes", "InputScale", "Device", "RandomSeed"}
+            "NumberOfPlanes", "InputScale", "ReferenceMargin", "Device", "RandomSeed"}
 if not expected <= set(build.ListProperties()):
     fail(f"Build MLI lacks {sorted(expected - set(build.ListProperties()))}")
 if not in_simpli_menu(build):
@@ -101,6 +101,19 @@ if from_folder.GetDataInformation().GetNumberOfPoints() != 4 * 96 * 64:
     fail(f"Build MLI at Input Scale 0.5: {from_folder.GetDataInformation().GetNumberOfPoints()} "
          "points, expected 4 layers of 96 x 64")
 print("Build MLI at Input Scale 0.5 OK")
+# Reference Margin 0.25: the same texel grid on a frame 1.5 times as wide (fx / 1.5).
+narrow_fx = from_folder.GetClientSideObject().GetOutputDataObject(0).GetFieldData().GetArray(
+    "CameraIntrinsics").GetTuple(0)[0]
+from_folder.ReferenceMargin = 0.25
+from_folder.UpdatePipeline()
+wide = from_folder.GetClientSideObject().GetOutputDataObject(0).GetFieldData()
+if from_folder.GetDataInformation().GetNumberOfPoints() != 4 * 96 * 64:
+    fail("Build MLI at Reference Margin 0.25 changed the texel grid")
+if abs(wide.GetArray("CameraIntrinsics").GetTuple(0)[0] * 1.5 - narrow_fx) > 1e-9 * narrow_fx:
+    fail(f"Reference Margin 0.25: fx {wide.GetArray('CameraIntrinsics').GetTuple(0)[0]}, "
+         f"expected {narrow_fx} / 1.5")
+from_folder.ReferenceMargin = 0
+print("Build MLI at Reference Margin 0.25 OK")
 
 # --- the layers in a render view, RGBA directly (MapScalars off) ------------------------------
 png = os.path.join(args.workdir, "build_mli.png")

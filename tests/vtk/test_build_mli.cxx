@@ -3,6 +3,7 @@
 // input-connection mode, the cached network, bad input and abort. Also the scene collection ->
 // simpli::Scene conversion (vtkToScene) the input mode relies on, round-tripped through
 // vtkSIMPLISceneReader.
+#include "SIMPLIMLIToVTK.h"
 #include "SIMPLISceneToVTK.h"
 #include "vtkSIMPLIBuildMLI.h"
 #include "vtkSIMPLISceneReader.h"
@@ -36,6 +37,7 @@
 #include "simpli/model/generator/scene_input.h"
 #include "simpli/model/mli/mli.h"
 #include "simpli/model/network/loader.h"
+#include "simpli/model/scene/reference_camera.h"
 #include "simpli/model/scene/scene.h"
 #include "simpli/ocl/autograd.h"
 
@@ -374,6 +376,32 @@ TEST(BuildMLI, InputScaleBuildsTheMLIAtThatSize) {
   EXPECT_EQ(layerDifference(full, direct().mli, 0), 0.0);
   f->SetInputScale(100.0); // clamped, like every VTK range property
   EXPECT_EQ(f->GetInputScale(), 2.0);
+}
+
+// ReferenceMargin widens the MLI's camera on the same texel grid (a new forward pass: the cached
+// one belongs to the narrow frame) and changes the layers; back at 0 they are the direct pass.
+TEST(BuildMLI, ReferenceMarginWidensTheMLIFrame) {
+  vtkNew<vtkSIMPLIBuildMLI> f;
+  configure(f);
+  vtkNew<ErrorRecorder> errors;
+  ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();
+  const scene::Camera narrow = vtkmli::cameraFromFieldData(outputOf(f)->GetFieldData(), "margin 0");
+  f->SetReferenceMargin(0.25);
+  ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();
+  const scene::Camera wide =
+      vtkmli::cameraFromFieldData(outputOf(f)->GetFieldData(), "margin 0.25");
+  const scene::Camera expected = scene::widenedCamera(narrow, 0.25);
+  EXPECT_NEAR(wide.fx, expected.fx, 1e-12);
+  EXPECT_NEAR(wide.cy, expected.cy, 1e-12);
+  EXPECT_TRUE(wide.R.isApprox(narrow.R, 1e-12));
+  EXPECT_EQ(wide.width, narrow.width);
+  EXPECT_EQ(layer(outputOf(f), 0)->GetNumberOfPoints(), 192 * 128);
+  EXPECT_GT(layerDifference(layer(outputOf(f), 0), direct().mli, 0), 1e-3);
+  f->SetReferenceMargin(0.0);
+  ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();
+  EXPECT_EQ(layerDifference(layer(outputOf(f), 0), direct().mli, 0), 0.0);
+  f->SetReferenceMargin(2.0); // clamped
+  EXPECT_EQ(f->GetReferenceMargin(), 0.5);
 }
 
 TEST(BuildMLI, ANewSeedReloadsTheNetwork) {

@@ -49,7 +49,7 @@ Camera referenceCamera(const std::vector<Camera>& sources) {
 }
 
 Camera widenedCamera(const Camera& camera, double margin) {
-  if (!(margin >= 0 && margin <= 0.5))
+  if (!(margin >= 0 && margin <= maxReferenceMargin))
     fail("reference margin ", margin,
          ": must be between 0 and 0.5 (a fraction of the image "
          "size added on every side)");

@@ -2,6 +2,7 @@
 #include "simpli/model/training/config.h"
 
 #include "simpli/model/network/loader.h"
+#include "simpli/model/scene/reference_camera.h"
 #include "simpli/model/training/data.h"
 
 #include "io/json_object_reader.h"
@@ -170,6 +171,8 @@ void TrainingConfig::validate(const std::string& source) const {
   if (!(s.mixupLambdaMin >= 0 && s.mixupLambdaMin <= s.mixupLambdaMax && s.mixupLambdaMax <= 1))
     fail(source, ": field \"sampling.mixup_lambda\" = [", s.mixupLambdaMin, ", ", s.mixupLambdaMax,
          "]: need 0 <= low <= high <= 1");
+  if (!(s.referenceMargin >= 0 && s.referenceMargin <= scene::maxReferenceMargin))
+    bad("sampling.reference_margin", s.referenceMargin, "must be in [0, 0.5]");
   const SyntheticConfig& y = synthetic;
   if (!(y.photoProbability >= 0 && y.photoProbability <= 1))
     bad("synthetic.photo_probability", y.photoProbability, "must be in [0, 1]");
@@ -250,6 +253,7 @@ TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::strin
     f.readNumbers("zoom", sc.zoomScales);
     f.readNumber("mixup_probability", sc.mixupProbability);
     f.readPair("mixup_lambda", sc.mixupLambdaMin, sc.mixupLambdaMax);
+    f.readNumber("reference_margin", sc.referenceMargin);
     f.finish();
   }
   if (const json* s = top.find("synthetic"))
@@ -290,7 +294,8 @@ std::string toJson(const TrainingConfig& c) {
                       {"crop", {s.cropHeight, s.cropWidth}},
                       {"zoom", s.zoomScales},
                       {"mixup_probability", s.mixupProbability},
-                      {"mixup_lambda", {s.mixupLambdaMin, s.mixupLambdaMax}}};
+                      {"mixup_lambda", {s.mixupLambdaMin, s.mixupLambdaMax}},
+                      {"reference_margin", s.referenceMargin}};
   const SyntheticConfig& y = c.synthetic;
   root["synthetic"] = {{"style", synthetic::toString(y.style)},
                        {"textures", synthetic::toString(y.textures)},

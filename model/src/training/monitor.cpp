@@ -92,7 +92,8 @@ TrainingMonitor::TrainingMonitor(std::string runDir, ValidationOptions options)
          " sources and a novel view need at least ", options_.views + 1);
 }
 
-void TrainingMonitor::begin(int64_t resumeStep) {
+void TrainingMonitor::begin(int64_t resumeStep, double referenceMargin) {
+  referenceMargin_ = referenceMargin;
   lastValidated_ = -1;
   if (!data_)
     return;
@@ -125,6 +126,7 @@ std::unique_ptr<ValidationScore> TrainingMonitor::update(network::SimpliNetwork&
     e.views = options_.views;
     e.novelViews = options_.novelViews;
     e.seed = options_.seed;
+    e.referenceMargin = referenceMargin_;
     e.warmUp = false; // build time is not measured here
     io::Image grid;
     const EvalResult r = evaluate(network, *data_, e, {}, [&](const EvalViewImages& v) {

@@ -182,7 +182,8 @@ TrainingSample Sampler::drawWithFrames(const scene::Scene& scene, uint64_t scene
       s.sourceDepths.push_back(
           zoomCropDepth((*depths)[size_t(f)], W, H, s.zoom, s.cropX, s.cropY, cw, ch));
   }
-  s.reference = scene::referenceCamera(s.sourceCameras);
+  s.reference =
+      scene::widenedCamera(scene::referenceCamera(s.sourceCameras), config_.referenceMargin);
   // MixUp on the sources only (kornia RandomMixUp: blend with another image of the batch).
   const int V = int(s.cleanSources.size());
   s.sources = s.cleanSources;

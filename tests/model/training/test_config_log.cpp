@@ -49,12 +49,13 @@ TEST(TrainConfig, RoundTripAndNetworkFile) {
       R"({"network": "tiny.json", "dtype": "f64", "seed": 5, "steps": 7,
           "optimizer": {"lr": 1e-3}, "loss_weights": {"perceptual": 10},
           "sampling": {"crop": [32, 48], "mixup_lambda": [0.1, 0.2], "window": 6,
-                       "zoom": [1.0, 1.3]}})",
+                       "zoom": [1.0, 1.3], "reference_margin": 0.06}})",
       "t.json", SIMPLI_NETWORK_CONFIG_DIR);
   EXPECT_EQ(c.network.name, "tiny");
   EXPECT_EQ(c.dtype, ocl::Dtype::F64);
   EXPECT_EQ(c.sampling.cropWidth, 48);
   EXPECT_EQ(c.sampling.zoomScales, (std::vector<double>{1.0, 1.3}));
+  EXPECT_DOUBLE_EQ(c.sampling.referenceMargin, 0.06);
   const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
   EXPECT_EQ(toJson(back), toJson(c));
   EXPECT_EQ(firstIncompatibleField(c, back), "");
@@ -101,6 +102,15 @@ TEST(TrainConfig, BadInputNamesFieldAndValue) {
                             "");
       },
       {"sampling.zoom", "non-empty list"});
+  for (const char* margin : {"-0.01", "0.6", "\"wide\""})
+    expectError(
+        [&] {
+          parseTrainingConfig(
+              std::string(R"({"network": "official-4l", "sampling": {"reference_margin": )") +
+                  margin + "}}",
+              "a.json", "");
+        },
+        {"a.json", "sampling.reference_margin"});
   expectError(
       [] { parseTrainingConfig(R"({"network": "official-4l", "ema_decay": 1})", "a.json", ""); },
       {"a.json", "ema_decay", "[0, 1)"});

@@ -189,6 +189,20 @@ TEST(TrainSampler, CropPixelsAndReferenceCameraAndMixup) {
     EXPECT_DOUBLE_EQ(t.reference.fx, t.sourceCameras[0].fx);
     EXPECT_EQ(t.sourceCameras[0].width, 16);
   }
+  // A margin widens the reference of the same draw (same seed) and nothing else.
+  SamplingConfig wide = c;
+  wide.referenceMargin = 0.1;
+  Sampler plain(c, 7), widened(wide, 7);
+  for (int it = 0; it < 3; ++it) {
+    const TrainingSample a = plain.drawFromScene(scene, 0), b = widened.drawFromScene(scene, 0);
+    EXPECT_EQ(a.sourceFrames, b.sourceFrames);
+    EXPECT_EQ(a.cropX, b.cropX);
+    EXPECT_TRUE(a.reference.R.isApprox(b.reference.R, 1e-15));
+    EXPECT_DOUBLE_EQ(b.reference.fx, a.reference.fx / 1.2);
+    EXPECT_DOUBLE_EQ(b.reference.cx, (a.reference.cx + 0.1) / 1.2);
+    EXPECT_EQ(b.reference.width, a.reference.width);
+    EXPECT_EQ(b.sources[0].at(0, 3, 4), a.sources[0].at(0, 3, 4));
+  }
   SamplingConfig big = c;
   big.cropHeight = 64;
   Sampler s2(big, 0);

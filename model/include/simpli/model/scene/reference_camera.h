@@ -19,12 +19,15 @@ Eigen::Quaterniond averageRotation(const std::vector<Eigen::Matrix3d>& rotations
 /// The reference camera of a set of source cameras; throws simpli::Error when empty.
 Camera referenceCamera(const std::vector<Camera>& sources);
 
+/// The widest margin widenedCamera takes: the frame doubled in width and height.
+inline constexpr double maxReferenceMargin = 0.5;
+
 /// `camera` with its image widened by `margin` x its width (height) on every side, on the same
 /// pixel grid: relative fx, fy divided by 1 + 2 margin, the principal point moved to match, so
 /// a point at relative u maps to (u + margin) / (1 + 2 margin). An MLI built on the widened
 /// reference also covers what novel views off to the side see beyond the sources' frame (flower,
 /// 5 sources at 256x192, margin 0.06: +0.77 +- 0.48 dB over 32 views, docs/training.md).
-/// margin 0 returns `camera`; throws simpli::Error unless 0 <= margin <= 0.5.
+/// margin 0 returns `camera`; throws simpli::Error unless 0 <= margin <= maxReferenceMargin.
 Camera widenedCamera(const Camera& camera, double margin);
 
 } // namespace simpli::scene

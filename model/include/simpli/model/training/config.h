@@ -69,6 +69,11 @@ struct SamplingConfig {
   std::vector<double> zoomScales{1.0};
   double mixupProbability = 0.9; ///< per source image
   double mixupLambdaMin = 0.0, mixupLambdaMax = 0.4;
+  /// The reference camera widened by this fraction of the image on every side
+  /// (scene::widenedCamera; not in the reference, which uses 0): the MLI then also covers what
+  /// the targets see beyond the sources' common frame, and the network learns to fill that
+  /// border. The training monitor scores with the same margin.
+  double referenceMargin = 0.0;
 };
 
 /// The procedural scenes of `simpli train synthetic[:SEED]` (synthetic/scene.h; ignored for

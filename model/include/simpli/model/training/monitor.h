@@ -40,7 +40,9 @@ public:
 
   /// Once the run folder exists: opens val.csv; a resumed run (resumeStep >= 0) keeps it up to
   /// that step, and knows its best score from best.safetensors' step and that step's row.
-  void begin(int64_t resumeStep);
+  /// Validations widen the reference camera by `referenceMargin` (the run's
+  /// sampling.reference_margin): the network is scored the way it is trained.
+  void begin(int64_t resumeStep, double referenceMargin = 0.0);
 
   /// Called after the checkpoint of `step`: validates when `every` steps have passed since the
   /// last validation (or `force`), then redraws progress.png. Returns the new score, if any.
@@ -64,6 +66,7 @@ private:
   std::unique_ptr<TrainingData> data_;
   std::unique_ptr<TrainLog> log_;
   int64_t lastValidated_ = -1;
+  double referenceMargin_ = 0.0; ///< begin()'s
   std::unique_ptr<ValidationScore> best_;
 };
 
