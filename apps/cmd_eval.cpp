@@ -37,7 +37,7 @@ struct EvalCliOptions {
   double inputScale = 1.0;
   /// One for every network, or one per --weights entry (the same weights with two margins is a
   /// paired comparison of the margins).
-  std::vector<double> referenceMargins{0.0};
+  std::vector<double> referenceMargins{scene::recommendedReferenceMargin};
   int64_t seed = 0;
   // Which of the protocol's settings the user gave explicitly (those win over the protocol).
   bool givenSize = false, givenViews = false, givenNovel = false, givenRepeats = false,
@@ -258,8 +258,8 @@ void runEval(EvalCliOptions o) {
 void addReferenceMarginOption(CLI::App& cmd, double& margin) {
   cmd.add_option("--reference-margin", margin,
                  "Widen the reference camera (the MLI's frame) by this fraction of the image on "
-                 "every side, 0 to 0.5: novel views off to the side then find layers where the "
-                 "sources' frame ends (flower: +0.8 dB at 0.06, docs/training.md)")
+                 "every side, 0 to 0.5 (0 = the reference method): novel views off to the side "
+                 "then find layers where the sources' frame ends (flower: +0.8 dB at 0.06)")
       ->capture_default_str();
 }
 
@@ -310,8 +310,8 @@ void addEvalCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--reference-margin", opts->referenceMargins,
                   "Widen the reference camera (the MLI's frame) by this fraction of the image on "
-                  "every side, 0 to 0.5; one value, or one per --weights entry (paired: "
-                  "--weights W,W --reference-margin 0,0.06)")
+                  "every side, 0 to 0.5 (0 = the reference method); one value, or one per "
+                  "--weights entry (paired: --weights W,W --reference-margin 0,0.06)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--corrections", opts->corrections, "MLI corrections to run (-1 = all)")

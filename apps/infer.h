@@ -3,6 +3,7 @@
 // folders spread over the ranks of an MPI job (cmd_infer_scenes.cpp).
 #include "simpli/model/generator/mli_builder.h"
 #include "simpli/model/mli/files.h"
+#include "simpli/model/scene/reference_camera.h"
 #include "simpli/model/scene/scene_folders.h"
 
 #include <string>
@@ -14,9 +15,10 @@ struct InferOptions {
   std::string scene, weights, config, layers = "all", device, out;
   std::vector<int> views, renderViews;
   int corrections = -1;
-  double inputScale = 1.0;      ///< sources resized by this before the network (the MLI's size)
-  double referenceMargin = 0.0; ///< the reference camera widened on every side (widenedCamera)
-  int64_t initRandom = -1;      ///< >= 0: random weights with this seed
+  double inputScale = 1.0; ///< sources resized by this before the network (the MLI's size)
+  double referenceMargin = scene::recommendedReferenceMargin; ///< the reference camera widened on
+                                                              ///< every side (widenedCamera)
+  int64_t initRandom = -1; ///< >= 0: random weights with this seed
 };
 
 /// The network of a run, loaded once and used for every scene.

@@ -260,6 +260,8 @@ int vtkSIMPLIBuildMLI::RequestData(vtkInformation* vtkNotUsed(request),
         options.corrections = this->CorrectionSteps;
         options.inputScale = this->InputScale;
         static_assert(simpli::scene::maxReferenceMargin == 0.5, "ReferenceMargin's clamp");
+        static_assert(simpli::scene::recommendedReferenceMargin == 0.06,
+                      "ReferenceMargin's default (the header and the ParaView XML say 0.06)");
         options.referenceMargin = this->ReferenceMargin;
         const Progress pass = progress.range(0.2, 0.85);
         options.progress = [&pass](const std::string&, int done, int total) {

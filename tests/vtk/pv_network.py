@@ -101,7 +101,14 @@ if from_folder.GetDataInformation().GetNumberOfPoints() != 4 * 96 * 64:
     fail(f"Build MLI at Input Scale 0.5: {from_folder.GetDataInformation().GetNumberOfPoints()} "
          "points, expected 4 layers of 96 x 64")
 print("Build MLI at Input Scale 0.5 OK")
-# Reference Margin 0.25: the same texel grid on a frame 1.5 times as wide (fx / 1.5).
+# Reference Margin: 0.06 by default; 0.25 is the same texel grid on a frame 1.5 times as wide as
+# at 0 (fx / 1.5).
+default_margin = from_folder.GetProperty("ReferenceMargin").GetData()
+default_margin = default_margin[0] if hasattr(default_margin, "__len__") else default_margin
+if abs(default_margin - 0.06) > 1e-12:
+    fail(f"Reference Margin defaults to {default_margin}, expected 0.06")
+from_folder.ReferenceMargin = 0
+from_folder.UpdatePipeline()
 narrow_fx = from_folder.GetClientSideObject().GetOutputDataObject(0).GetFieldData().GetArray(
     "CameraIntrinsics").GetTuple(0)[0]
 from_folder.ReferenceMargin = 0.25
@@ -112,7 +119,7 @@ if from_folder.GetDataInformation().GetNumberOfPoints() != 4 * 96 * 64:
 if abs(wide.GetArray("CameraIntrinsics").GetTuple(0)[0] * 1.5 - narrow_fx) > 1e-9 * narrow_fx:
     fail(f"Reference Margin 0.25: fx {wide.GetArray('CameraIntrinsics').GetTuple(0)[0]}, "
          f"expected {narrow_fx} / 1.5")
-from_folder.ReferenceMargin = 0
+from_folder.ReferenceMargin = 0.06
 print("Build MLI at Reference Margin 0.25 OK")
 
 # --- the layers in a render view, RGBA directly (MapScalars off) ------------------------------

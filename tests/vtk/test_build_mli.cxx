@@ -77,6 +77,7 @@ const Direct& direct() {
     const network::LoadedNetwork loaded = network::loadNetwork("tiny", "", uint64_t(kSeed));
     generator::SceneInputOptions o;
     o.views = {0, 6};
+    o.referenceMargin = scene::recommendedReferenceMargin; // the filter's default
     out.input = generator::sceneInput(scene, o);
     generator::GeneratorOptions options;
     options.corrections = kCorrections;
@@ -379,26 +380,29 @@ TEST(BuildMLI, InputScaleBuildsTheMLIAtThatSize) {
 }
 
 // ReferenceMargin widens the MLI's camera on the same texel grid (a new forward pass: the cached
-// one belongs to the narrow frame) and changes the layers; back at 0 they are the direct pass.
+// one belongs to another frame); the default is the recommended margin, 0 the reference's frame.
 TEST(BuildMLI, ReferenceMarginWidensTheMLIFrame) {
   vtkNew<vtkSIMPLIBuildMLI> f;
   configure(f);
+  EXPECT_EQ(f->GetReferenceMargin(), scene::recommendedReferenceMargin);
   vtkNew<ErrorRecorder> errors;
-  ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();
-  const scene::Camera narrow = vtkmli::cameraFromFieldData(outputOf(f)->GetFieldData(), "margin 0");
-  f->SetReferenceMargin(0.25);
-  ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();
-  const scene::Camera wide =
-      vtkmli::cameraFromFieldData(outputOf(f)->GetFieldData(), "margin 0.25");
-  const scene::Camera expected = scene::widenedCamera(narrow, 0.25);
-  EXPECT_NEAR(wide.fx, expected.fx, 1e-12);
-  EXPECT_NEAR(wide.cy, expected.cy, 1e-12);
-  EXPECT_TRUE(wide.R.isApprox(narrow.R, 1e-12));
-  EXPECT_EQ(wide.width, narrow.width);
-  EXPECT_EQ(layer(outputOf(f), 0)->GetNumberOfPoints(), 192 * 128);
+  auto camera = [&](double margin) {
+    f->SetReferenceMargin(margin);
+    EXPECT_EQ(runWithErrors(f, errors), 1) << errors->all();
+    EXPECT_EQ(layer(outputOf(f), 0)->GetNumberOfPoints(), 192 * 128);
+    return vtkmli::cameraFromFieldData(outputOf(f)->GetFieldData(), "BuildMLI output");
+  };
+  const scene::Camera narrow = camera(0.0);
   EXPECT_GT(layerDifference(layer(outputOf(f), 0), direct().mli, 0), 1e-3);
-  f->SetReferenceMargin(0.0);
-  ASSERT_EQ(runWithErrors(f, errors), 1) << errors->all();
+  for (double margin : {scene::recommendedReferenceMargin, 0.25}) {
+    const scene::Camera wide = camera(margin);
+    const scene::Camera expected = scene::widenedCamera(narrow, margin);
+    EXPECT_NEAR(wide.fx, expected.fx, 1e-12) << margin;
+    EXPECT_NEAR(wide.cy, expected.cy, 1e-12) << margin;
+    EXPECT_TRUE(wide.R.isApprox(narrow.R, 1e-12));
+    EXPECT_EQ(wide.width, narrow.width);
+  }
+  camera(scene::recommendedReferenceMargin);
   EXPECT_EQ(layerDifference(layer(outputOf(f), 0), direct().mli, 0), 0.0);
   f->SetReferenceMargin(2.0); // clamped
   EXPECT_EQ(f->GetReferenceMargin(), 0.5);
