@@ -21,17 +21,21 @@ double ConstantLr::lrAt(int64_t step) const {
   return lr_;
 }
 
-ExponentialLr::ExponentialLr(double lr0, double gamma) : lr0_(lr0), gamma_(gamma) {
+ExponentialLr::ExponentialLr(double lr0, double gamma, int64_t warmupSteps)
+    : lr0_(lr0), gamma_(gamma), warmup_(warmupSteps) {
   if (!(lr0 >= 0.0))
     fail("ExponentialLr: learning rate ", lr0, " must be >= 0");
   if (!(gamma > 0.0 && gamma <= 1.0))
     fail("ExponentialLr: gamma ", gamma, " must be in (0, 1]");
+  if (warmupSteps < 0)
+    fail("ExponentialLr: warm-up steps ", warmupSteps, " must be >= 0");
 }
 
 double ExponentialLr::lrAt(int64_t step) const {
   checkStep("ExponentialLr", step);
   // The closed form: PyTorch's recursive lr *= gamma drifts by ~step ulps, irrelevant here.
-  return lr0_ * std::pow(gamma_, static_cast<double>(step));
+  const double lr = lr0_ * std::pow(gamma_, static_cast<double>(step));
+  return step < warmup_ ? lr * static_cast<double>(step + 1) / static_cast<double>(warmup_) : lr;
 }
 
 CosineLr::CosineLr(double lrMax, int64_t totalSteps, double lrMin, int64_t warmupSteps)

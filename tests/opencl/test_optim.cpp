@@ -212,6 +212,13 @@ TEST(LrSchedule, KnownSteps) {
     recursive *= 0.999994;
   EXPECT_NEAR(exponential.lrAt(1000), recursive, recursive * 1e-12);
 
+  // A linear warm-up on top: (step + 1) / warmup of the exponential, then the exponential itself.
+  ocl::ExponentialLr warmExp(1e-3, 0.99, 4);
+  EXPECT_DOUBLE_EQ(warmExp.lrAt(0), 1e-3 * 0.25);
+  EXPECT_DOUBLE_EQ(warmExp.lrAt(2), 1e-3 * 0.99 * 0.99 * 0.75);
+  EXPECT_DOUBLE_EQ(warmExp.lrAt(3), 1e-3 * std::pow(0.99, 3));
+  EXPECT_DOUBLE_EQ(warmExp.lrAt(9), 1e-3 * std::pow(0.99, 9));
+
   const double pi = std::acos(-1.0);
   ocl::CosineLr cosine(1e-3, 100, 1e-5);
   EXPECT_DOUBLE_EQ(cosine.lrAt(0), 1e-3);
@@ -233,6 +240,7 @@ TEST(LrSchedule, BadUseThrows) {
   EXPECT_THROW(ocl::ConstantLr(-1.0), Error);
   EXPECT_THROW(ocl::ExponentialLr(1e-3, 0.0), Error);
   EXPECT_THROW(ocl::ExponentialLr(1e-3, 1.5), Error);
+  EXPECT_THROW(ocl::ExponentialLr(1e-3, 0.99, -1), Error);
   EXPECT_THROW(ocl::CosineLr(1e-3, 10, 0.0, 10), Error);
   EXPECT_THROW(ocl::CosineLr(1e-3, 10, 2e-3), Error);
   try {

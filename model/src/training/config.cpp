@@ -145,6 +145,8 @@ void TrainingConfig::validate(const std::string& source) const {
     bad("optimizer.gamma", o.gamma, "must be in (0, 1]");
   if (!(o.clipGradNorm > 0))
     bad("optimizer.clip_grad_norm", o.clipGradNorm, "must be > 0");
+  if (o.warmupSteps < 0)
+    bad("optimizer.warmup_steps", o.warmupSteps, "must be >= 0 (0 = no warm-up)");
   for (const auto& [term, w] : lossWeights)
     if (!(w >= 0) || !std::isfinite(w))
       fail(source, ": field \"loss_weights.", term, "\" = ", w, ": must be finite and >= 0");
@@ -228,6 +230,7 @@ TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::strin
     f.readNumber("beta2", c.optimizer.beta2);
     f.readNumber("eps", c.optimizer.eps);
     f.readNumber("gamma", c.optimizer.gamma);
+    f.readInteger("warmup_steps", c.optimizer.warmupSteps);
     f.readNumber("clip_grad_norm", c.optimizer.clipGradNorm);
     f.finish();
   }
@@ -279,9 +282,13 @@ std::string toJson(const TrainingConfig& c) {
   root["corrections"] = c.corrections;
   root["max_fragments"] = c.maxFragments;
   root["ema_decay"] = c.emaDecay;
-  root["optimizer"] = {{"lr", c.optimizer.lr},       {"beta1", c.optimizer.beta1},
-                       {"beta2", c.optimizer.beta2}, {"eps", c.optimizer.eps},
-                       {"gamma", c.optimizer.gamma}, {"clip_grad_norm", c.optimizer.clipGradNorm}};
+  root["optimizer"] = {{"lr", c.optimizer.lr},
+                       {"beta1", c.optimizer.beta1},
+                       {"beta2", c.optimizer.beta2},
+                       {"eps", c.optimizer.eps},
+                       {"gamma", c.optimizer.gamma},
+                       {"clip_grad_norm", c.optimizer.clipGradNorm},
+                       {"warmup_steps", c.optimizer.warmupSteps}};
   json w = json::object();
   for (const std::string& term : lossTermNames())
     w[term] = c.weight(term);

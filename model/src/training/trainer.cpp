@@ -186,7 +186,7 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
   const OptimizerConfig& o = config_.optimizer;
   adam_ = std::make_unique<ocl::Adam>(network_->parameters().parameters(), o.lr, o.beta1, o.beta2,
                                       o.eps);
-  schedule_ = std::make_unique<ocl::ExponentialLr>(o.lr, o.gamma);
+  schedule_ = std::make_unique<ocl::ExponentialLr>(o.lr, o.gamma, o.warmupSteps);
   const int streams = samplesPerStep();
   for (int j = 0; j < options_.samplesPerRank; ++j)
     samplers_.emplace_back(config_.sampling, samplerSeed(config_.seed));

@@ -47,7 +47,7 @@ TEST(TrainConfig, DefaultsAreTheReferenceTblock4Train) {
 TEST(TrainConfig, RoundTripAndNetworkFile) {
   const TrainingConfig c = parseTrainingConfig(
       R"({"network": "tiny.json", "dtype": "f64", "seed": 5, "steps": 7,
-          "optimizer": {"lr": 1e-3}, "loss_weights": {"perceptual": 10},
+          "optimizer": {"lr": 1e-3, "warmup_steps": 25}, "loss_weights": {"perceptual": 10},
           "sampling": {"crop": [32, 48], "mixup_lambda": [0.1, 0.2], "window": 6,
                        "zoom": [1.0, 1.3], "reference_margin": 0.06}})",
       "t.json", SIMPLI_NETWORK_CONFIG_DIR);
@@ -56,6 +56,7 @@ TEST(TrainConfig, RoundTripAndNetworkFile) {
   EXPECT_EQ(c.sampling.cropWidth, 48);
   EXPECT_EQ(c.sampling.zoomScales, (std::vector<double>{1.0, 1.3}));
   EXPECT_DOUBLE_EQ(c.sampling.referenceMargin, 0.06);
+  EXPECT_EQ(c.optimizer.warmupSteps, 25);
   const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
   EXPECT_EQ(toJson(back), toJson(c));
   EXPECT_EQ(firstIncompatibleField(c, back), "");
@@ -84,6 +85,18 @@ TEST(TrainConfig, BadInputNamesFieldAndValue) {
         parseTrainingConfig(R"({"network": "official-4l", "optimizer": {"lr": -1}})", "a.json", "");
       },
       {"optimizer.lr", "-1", "> 0"});
+  expectError(
+      [] {
+        parseTrainingConfig(R"({"network": "official-4l", "optimizer": {"warmup_steps": -5}})",
+                            "a.json", "");
+      },
+      {"a.json", "optimizer.warmup_steps", "-5", ">= 0"});
+  expectError(
+      [] {
+        parseTrainingConfig(R"({"network": "official-4l", "optimizer": {"warmup_steps": 2.5}})",
+                            "a.json", "");
+      },
+      {"a.json", "optimizer.warmup_steps"});
   expectError(
       [] {
         parseTrainingConfig(R"({"network": "official-4l", "sampling": {"crop": [30, 32]}})",

@@ -76,11 +76,15 @@ private:
 /// uses gamma = 0.999994 on lr0 = 3e-4).
 class ExponentialLr : public LrSchedule {
 public:
-  ExponentialLr(double lr0, double gamma);
+  /// lr0 * gamma^step, times (step + 1) / warmupSteps for step < warmupSteps (a linear warm-up:
+  /// Adam's first updates, before its moment estimates settle, are ~lr per weight whatever the
+  /// gradient, which shakes a network warm-started from trained weights).
+  ExponentialLr(double lr0, double gamma, int64_t warmupSteps = 0);
   double lrAt(int64_t step) const override;
 
 private:
   double lr0_, gamma_;
+  int64_t warmup_;
 };
 
 /// Linear warm-up lrMax * (step + 1) / warmupSteps for step < warmupSteps, then cosine

@@ -18,7 +18,8 @@
 //   "max_fragments": 16,                    // rasterizer k-buffer size
 //   "ema_decay": 0,                         // > 0: keep an EMA of the weights (reference 0.9)
 //   "optimizer": {"lr": 3e-4, "beta1": 0.9, "beta2": 0.999, "eps": 1e-8,
-//                 "gamma": 0.999994, "clip_grad_norm": 20},
+//                 "gamma": 0.999994, "clip_grad_norm": 20,
+//                 "warmup_steps": 0},        // not in the reference: linear lr warm-up
 //   "loss_weights": {"l1": 1, "perceptual": 0, "intermediate_loss_0_l1": 1,
 //                    "intermediate_loss_1_l1": 1, "intermediate_loss_2_l1": 1,
 //                    "intermediate_loss_3_l1": 1, "smooth_layers": 0.01,
@@ -26,7 +27,8 @@
 //   "sampling": {"min_views": 2, "max_views": 8, "novel_views": 4, "window": 0,
 //                "crop": [0, 0],            // [height, width]; 0 = the whole image
 //                "zoom": [1.0],             // zoom factors >= 1, one drawn per sample
-//                "mixup_probability": 0.9, "mixup_lambda": [0.0, 0.4]},
+//                "mixup_probability": 0.9, "mixup_lambda": [0.0, 0.4],
+//                "reference_margin": 0},  // not in the reference: widenedCamera
 //   "synthetic": {"style": "objects" | "world",   // the scenes of data synthetic[:SEED]
 //                 "textures": "procedural" | "photo", "photo_probability": 0.85,
 //                 "photo_dir": "",                  // "" = the Debian photo packages
@@ -53,6 +55,9 @@ struct OptimizerConfig {
   double beta1 = 0.9, beta2 = 0.999, eps = 1e-8;
   double gamma = 0.999994; ///< ExponentialLR factor per step
   double clipGradNorm = 20.0;
+  /// Linear lr warm-up over the run's first steps (ocl::ExponentialLr); 0 = none, as in the
+  /// reference. For runs warm-started from trained weights with a fresh Adam state.
+  int64_t warmupSteps = 0;
 };
 
 /// Per-sample drawing of sources and targets (sampler.h).
