@@ -6,6 +6,7 @@
 // (views.csv and one comparison picture per view of the first sample).
 #include "commands.h"
 #include "progress_bar.h"
+#include "reference_margin_option.h"
 
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
@@ -255,19 +256,6 @@ void runEval(EvalCliOptions o) {
 
 } // namespace
 
-void addReferenceMarginOption(CLI::App& cmd, double& margin) {
-  cmd.add_option("--reference-margin", margin,
-                 "Widen the reference camera (the MLI's frame) by this fraction of the image on "
-                 "every side, 0 to 0.5 (0 = the reference method): novel views off to the side "
-                 "then find layers where the sources' frame ends (flower: +0.8 dB at 0.06)")
-      ->capture_default_str();
-}
-
-void checkReferenceMargin(double margin) {
-  if (!(margin >= 0 && margin <= scene::maxReferenceMargin))
-    fail("--reference-margin ", margin, ": must be between 0 and ", scene::maxReferenceMargin);
-}
-
 void addEvalCommand(CLI::App& app) {
   auto opts = std::make_shared<EvalCliOptions>();
   CLI::App* cmd = app.add_subcommand(
@@ -309,9 +297,9 @@ void addEvalCommand(CLI::App& app) {
                   "rendered into the novel views at their size")
       ->capture_default_str();
   cmd->add_option("--reference-margin", opts->referenceMargins,
-                  "Widen the reference camera (the MLI's frame) by this fraction of the image on "
-                  "every side, 0 to 0.5 (0 = the reference method); one value, or one per "
-                  "--weights entry (paired: --weights W,W --reference-margin 0,0.06)")
+                  std::string(kReferenceMarginHelp) +
+                      "; one value, or one per --weights entry (paired: --weights W,W "
+                      "--reference-margin 0,0.06)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--corrections", opts->corrections, "MLI corrections to run (-1 = all)")

@@ -19,6 +19,7 @@
 #include "commands.h"
 #include "infer.h"
 #include "progress_bar.h"
+#include "reference_margin_option.h"
 #include "simpli/model/network/loader.h"
 #include "stop_signals.h"
 

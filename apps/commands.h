@@ -17,7 +17,4 @@ void addRenderCommand(CLI::App& app);
 void addInferCommand(CLI::App& app);
 void addTrainCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
-/// --reference-margin F of infer and eval (scene::widenedCamera), and its check (a named error).
-void addReferenceMarginOption(CLI::App& cmd, double& margin);
-void checkReferenceMargin(double margin);
 } // namespace simpli::app

@@ -167,19 +167,28 @@ bool usable(double x, double y, bool logY) {
   return std::isfinite(x) && std::isfinite(y) && (!logY || y > 0);
 }
 
-// Top-left corner of a w x h legend inside the plot area [x0, x1] x [y0, y1]: top right, top
-// left, bottom right or bottom left, the first that covers the fewest of the points (margins
-// included, so that a line passing just beside the box stays visible).
+// Top-left corner of a w x h legend inside the plot area [x0, x1] x [y0, y1], where it covers
+// the fewest of the drawn pixels `points` (margins included, so that a line passing just beside
+// the box stays visible). Candidates in order of preference: the four corners, then the middle
+// of the right and left sides, the middle of the top and bottom, the centre (a flat curve at the
+// top and a baseline at the bottom leave only the middle band free).
 std::array<int, 2> legendCorner(const std::vector<std::array<double, 2>>& points, int x0, int y0,
                                 int x1, int y1, int w, int h) {
   const int margin = 6;
-  const std::array<std::array<int, 2>, 4> corners{{{x1 - 4 - w, y0 + margin},
-                                                   {x0 + margin, y0 + margin},
-                                                   {x1 - 4 - w, y1 - margin - h},
-                                                   {x0 + margin, y1 - margin - h}}};
-  std::array<int, 2> best = corners[0];
+  const int right = x1 - 4 - w, left = x0 + margin, top = y0 + margin, bottom = y1 - margin - h;
+  const int midX = (x0 + x1 - w) / 2, midY = (y0 + y1 - h) / 2;
+  const std::array<std::array<int, 2>, 9> candidates{{{right, top},
+                                                      {left, top},
+                                                      {right, bottom},
+                                                      {left, bottom},
+                                                      {right, midY},
+                                                      {left, midY},
+                                                      {midX, top},
+                                                      {midX, bottom},
+                                                      {midX, midY}}};
+  std::array<int, 2> best = candidates[0];
   size_t fewest = SIZE_MAX;
-  for (const std::array<int, 2>& c : corners) {
+  for (const std::array<int, 2>& c : candidates) {
     size_t covered = 0;
     for (const std::array<double, 2>& q : points)
       covered += q[0] >= c[0] - margin && q[0] <= c[0] + w + margin && q[1] >= c[1] - margin &&
@@ -190,6 +199,17 @@ std::array<int, 2> legendCorner(const std::vector<std::array<double, 2>>& points
     }
   }
   return best;
+}
+
+// Points every ~2 pixels along the segment (ax, ay) -> (bx, by), end excluded, appended to `out`:
+// what the legend must not cover is the lines, not only their vertices.
+void sampleSegment(double ax, double ay, double bx, double by,
+                   std::vector<std::array<double, 2>>& out) {
+  const int n = std::max(1, int(std::ceil(std::hypot(bx - ax, by - ay) / 2)));
+  for (int i = 0; i < n; ++i) {
+    const double t = double(i) / n;
+    out.push_back({ax + t * (bx - ax), ay + t * (by - ay)});
+  }
 }
 
 void drawPanel(Canvas& cv, const PlotPanel& p, int top, int height) {
@@ -254,7 +274,7 @@ void drawPanel(Canvas& cv, const PlotPanel& p, int top, int height) {
   }
   cv.text((x0 + x1 - textWidth(p.xLabel, scale)) / 2, y1 + 32, p.xLabel, scale, kAxis);
 
-  std::vector<std::array<double, 2>> drawn; // pixel positions of the points, for the legend
+  std::vector<std::array<double, 2>> drawn; // pixels of the points and lines, for the legend
   for (const PlotSeries& s : p.series) {
     double arc = 0;
     bool have = false;
@@ -266,8 +286,10 @@ void drawPanel(Canvas& cv, const PlotPanel& p, int top, int height) {
       }
       const double x = px(s.x[i]), y = py(p.logY ? std::log10(s.y[i]) : s.y[i]);
       drawn.push_back({x, y});
-      if (have)
+      if (have) {
         cv.line(lx, ly, x, y, s.colour, s.dashed, arc);
+        sampleSegment(lx, ly, x, y, drawn);
+      }
       if (s.markers)
         cv.fill(int(x) - 3, int(y) - 3, int(x) + 4, int(y) + 4, s.colour);
       lx = x;
@@ -275,8 +297,8 @@ void drawPanel(Canvas& cv, const PlotPanel& p, int top, int height) {
       have = true;
     }
   }
-  // The legend last, on white, so that no line runs through it, in the corner where it hides
-  // the fewest points (a validation curve that ends high would vanish under a fixed corner).
+  // The legend last, on white, so that no line runs through it, where it hides the fewest of the
+  // drawn pixels (a validation curve that ends high would vanish under a fixed corner).
   int widest = 0, entries = 0;
   for (const PlotSeries& s : p.series)
     if (!s.name.empty()) {

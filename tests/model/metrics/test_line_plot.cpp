@@ -123,6 +123,40 @@ TEST(RenderPlot, LegendHidesNoData) {
   EXPECT_GT(countColour(named, kRed), countColour(bare, kRed)); // the legend entry is there
 }
 
+// Red pixels of `bare` that are no longer red in `named` (the legend drawn over them).
+int hiddenRed(const io::Image& bare, const io::Image& named) {
+  int hidden = 0;
+  for (int y = 0; y < bare.height; ++y)
+    for (int x = 0; x < bare.width; ++x) {
+      const bool wasRed = bare.at(0, y, x) > 0.99f && bare.at(1, y, x) < -0.99f;
+      const bool isRed = named.at(0, y, x) > 0.99f && named.at(1, y, x) < -0.99f;
+      hidden += wasRed && !isRed;
+    }
+  return hidden;
+}
+
+TEST(RenderPlot, LegendMovesToTheMiddleWhenEveryCornerHasData) {
+  // A training run's validation panel: a flat, sparsely marked network curve along the top and a
+  // dashed baseline along the bottom. Every corner holds a line (the segments between the
+  // markers too), so the legend must go to the empty middle band.
+  metrics::PlotPanel p;
+  std::vector<double> x, top, low;
+  for (int i = 0; i <= 11; ++i) {
+    x.push_back(50 + 100 * i);
+    top.push_back(18.3 - 0.03 * i);
+    low.push_back(11.1);
+  }
+  p.series.push_back({"", x, top, kRed, true});
+  p.series.push_back({"", x, low, kGreen, false, true});
+  const io::Image bare = metrics::renderPlot({p}, 800, 360);
+  p.series[0].name = "network";
+  p.series[1].name = "nearest view";
+  const io::Image named = metrics::renderPlot({p}, 800, 360);
+  EXPECT_GT(countColour(bare, kRed), 500);
+  EXPECT_EQ(hiddenRed(bare, named), 0);
+  EXPECT_GE(countColour(named, kGreen), countColour(bare, kGreen)); // the baseline is whole
+}
+
 TEST(RenderPlot, StacksPanelsAndRejectsBadInput) {
   metrics::PlotPanel a, b;
   a.series.push_back({"a", {0, 1}, {0, 1}, kRed, true});
