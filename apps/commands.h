@@ -17,4 +17,5 @@ void addRenderCommand(CLI::App& app);
 void addInferCommand(CLI::App& app);
 void addTrainCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
+void addWidenCommand(CLI::App& app);
 } // namespace simpli::app

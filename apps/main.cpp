@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
   simpli::app::addInferCommand(app);
   simpli::app::addTrainCommand(app);
   simpli::app::addEvalCommand(app);
+  simpli::app::addWidenCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -5,18 +5,21 @@
 
 namespace simpli::network {
 
+std::vector<BlockDims> postAggregateDims(const TBlockConfig& config) {
+  std::vector<BlockDims> dims = config.blocks;
+  const int lastOut = dims.empty() ? config.outChannels : dims.back().out;
+  dims.push_back({lastOut, config.outChannels});
+  return dims;
+}
+
 TBlock::TBlock(ParameterStore& store, const std::string& prefix, int spatialDims,
                int stateChannels_, int sourceChannels_, const TBlockConfig& config)
     : stateChannels(stateChannels_), sourceChannels(sourceChannels_) {
   const bool withAttention = config.attentionHidden > 0;
   // [state | mean | var] or [state | mean | var | attended mean | attended var] (§4.7 step 8).
   inChannels = stateChannels + (withAttention ? 4 : 2) * sourceChannels;
-  std::vector<BlockDims> dims = config.blocks;
-  // The TBlock appends [last out -> last out -> out_channels] (§4.3).
-  const int lastOut = dims.empty() ? config.outChannels : dims.back().out;
-  dims.push_back({lastOut, config.outChannels});
-  postAggregate =
-      DoubleConvResnet(store, prefix + ".post_aggregate_block", spatialDims, inChannels, dims);
+  postAggregate = DoubleConvResnet(store, prefix + ".post_aggregate_block", spatialDims, inChannels,
+                                   postAggregateDims(config));
   if (withAttention)
     attention =
         ViewAttention(store, prefix + ".attention_agg", sourceChannels, config.attentionHidden);

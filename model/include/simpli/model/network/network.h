@@ -15,6 +15,10 @@
 
 namespace simpli::network {
 
+/// The [inner, out] widths of a TBlock's post-aggregation stack: config.blocks and the final
+/// [last out -> last out -> out_channels] block the TBlock appends (§4.3).
+std::vector<BlockDims> postAggregateDims(const TBlockConfig& config);
+
 /// An aggregation module (the reference's TBlock, §4.7): the post-aggregation stack
 /// (<prefix>.post_aggregate_block, with the final [last out -> out] block appended) and, for
 /// the MLI levels, the view self-attention (<prefix>.attention_agg).
