@@ -77,8 +77,10 @@ public:
   void linear(const std::string& weight, const std::string& bias, const ChannelMap& out,
               const ChannelMap& in) {
     const HostTensor old = read(weight);
+    if (old.shape.size() < 2 || old.shape[0] != out.oldSize || old.shape[1] != in.oldSize)
+      fail("widen: ", weight, " has shape ", ocl::toString(old.shape), ", expected [", out.oldSize,
+           ", ", in.oldSize, ", ...]");
     const int64_t oldIn = old.shape[1], inner = kernelVolume(old.shape);
-    check(weight, old.shape[0] == out.oldSize && oldIn == in.oldSize, old.shape, out, in);
     const double sigma = options_.noise * rms(old.values);
     const std::vector<double> z = perturbation(weight, int64_t(out.size()) * oldIn * inner);
     std::vector<double> v(size_t(out.size()) * size_t(in.size()) * size_t(inner));
@@ -182,12 +184,6 @@ private:
     for (double& x : z)
       x = uniform(rng);
     return z;
-  }
-  static void check(const std::string& name, bool ok, const ocl::Shape& shape,
-                    const ChannelMap& out, const ChannelMap& in) {
-    if (!ok || shape.size() < 2)
-      fail("widen: ", name, " has shape ", ocl::toString(shape), ", expected [", out.oldSize, ", ",
-           in.oldSize, ", ...]");
   }
   HostTensor read(const std::string& name) const {
     const ocl::Tensor& t = from_.get(name);
