@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <tuple>
 
 namespace simpli::training {
 namespace {
@@ -183,20 +184,26 @@ void TrainingMonitor::drawProgress(const std::string& runDir) {
   const fs::path val = run / "val.csv";
   if (fs::exists(val)) {
     const std::vector<std::vector<double>> v = TrainLog::read(val.string());
-    metrics::PlotPanel p;
-    p.title = "validation (fixed views)";
-    p.xLabel = "step";
-    p.yLabel = "psnr db";
-    metrics::PlotSeries model{"network", {}, {}, {0.8f, 0.15f, 0.1f}, true};
-    metrics::PlotSeries nearest{"nearest view", {}, {}, {0.3f, 0.3f, 0.3f}, false, true};
-    for (const std::vector<double>& r : v) {
-      model.x.push_back(r[0]);
-      model.y.push_back(r[1]);
-      nearest.x.push_back(r[0]);
-      nearest.y.push_back(r[3]);
+    // PSNR and SSIM can move apart (sharper layers with misplaced edges: SSIM up, PSNR down),
+    // so both are shown. val.csv columns: step, psnr, ssim, nearest_psnr, nearest_ssim.
+    for (const auto& [title, label, column] :
+         {std::tuple{"validation psnr (fixed views)", "psnr db", 1},
+          std::tuple{"validation ssim (fixed views)", "ssim", 2}}) {
+      metrics::PlotPanel p;
+      p.title = title;
+      p.xLabel = "step";
+      p.yLabel = label;
+      metrics::PlotSeries model{"network", {}, {}, {0.8f, 0.15f, 0.1f}, true};
+      metrics::PlotSeries nearest{"nearest view", {}, {}, {0.3f, 0.3f, 0.3f}, false, true};
+      for (const std::vector<double>& r : v) {
+        model.x.push_back(r[0]);
+        model.y.push_back(r[size_t(column)]);
+        nearest.x.push_back(r[0]);
+        nearest.y.push_back(r[size_t(column) + 2]);
+      }
+      p.series = {model, nearest};
+      panels.push_back(p);
     }
-    p.series = {model, nearest};
-    panels.push_back(p);
   }
   io::writeImagePng(metrics::renderPlot(panels), (run / "progress.png").string());
 }

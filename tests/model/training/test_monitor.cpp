@@ -79,7 +79,7 @@ TEST(TrainingMonitor, ValidatesOnItsScheduleWithFixedSamples) {
   }
   const io::Image progress = io::readImage(run.str("progress.png"));
   EXPECT_EQ(progress.width, 800);
-  EXPECT_EQ(progress.height, 2 * 360); // loss and validation panels
+  EXPECT_EQ(progress.height, 3 * 360); // loss, validation PSNR and SSIM panels
 }
 
 TEST(TrainingMonitor, ResumeKeepsValidationRowsUpToTheCheckpoint) {
