@@ -6,6 +6,7 @@
 // replaces only an MLI that simpli wrote and that holds nothing else (mli::mliReplaceRefusal), and
 // never a folder that contains, or lies inside, the input.
 #include "commands.h"
+#include "output_file.h"
 
 #include "simpli/error.h"
 #include "simpli/model/io/staged_folder.h"
@@ -56,22 +57,11 @@ const char* formatName(mli::MLIFormat f) {
 // OUT is one file: written atomically; an existing file is replaced only with --force, and
 // never a folder.
 void exportGlb(const ConvertOptions& o, const mli::MLIReadOptions& readOptions) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (fs::is_directory(o.output, ec))
-    fail("output ", o.output, " is a folder; a GLB export writes one file (e.g. ", o.output,
-         "/scene.glb)");
   if (isSameOrInside(o.output, o.input))
     fail("output ", o.output, " lies inside the input ", o.input,
          "; refusing to write into it (choose an output outside the input)");
-  if (fs::exists(o.output, ec) && !o.force)
-    fail("output ", o.output, " already exists (use --force to replace it)");
-  // The file appears by a rename in its folder: that folder must be writable.
-  const std::string parent =
-      fs::path(o.output).parent_path().empty() ? "." : fs::path(o.output).parent_path().string();
-  if (!fs::is_directory(parent, ec))
-    fail("output ", o.output, ": its folder ", parent, " does not exist");
-  io::checkOutputLocation(parent, "output folder");
+  checkOutputFile(o.output, "output", o.force,
+                  "a GLB export writes one file (e.g. " + o.output + "/scene.glb)");
   const mli::MLI mli = mli::readMLI(o.input, readOptions);
   mli::GlbOptions glbOptions;
   if (o.mesh == "adaptive") {

@@ -5,6 +5,7 @@
 // for a training config's "network". Outputs are written atomically; an existing file is
 // replaced only with --force, and never the input weights.
 #include "commands.h"
+#include "output_file.h"
 
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
@@ -26,20 +27,13 @@ struct WidenCliOptions {
   bool force = false;
 };
 
-/// Throws a named error unless `path` may be written: not a folder, not the input, its folder
-/// exists, and an existing file only with --force.
+/// Throws a named error unless `path` may be written (output_file.h), and never for the input.
 void checkOutputFile(const std::string& path, const std::string& flag, const WidenCliOptions& o) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::is_directory(path, ec))
-    fail(flag, " ", path, " is a folder; give a file name");
   if (fs::exists(path, ec) && fs::exists(o.weights, ec) && fs::equivalent(path, o.weights, ec))
     fail(flag, " ", path, " is the input weights; refusing to replace them");
-  if (fs::exists(path, ec) && !o.force)
-    fail(flag, " ", path, " already exists (use --force to replace it)");
-  const fs::path parent = fs::path(path).parent_path();
-  if (!parent.empty() && !fs::is_directory(parent, ec))
-    fail(flag, " ", path, ": its folder ", parent.string(), " does not exist");
+  app::checkOutputFile(path, flag, o.force, "give a file name");
 }
 
 void runWiden(const WidenCliOptions& o) {
@@ -48,7 +42,7 @@ void runWiden(const WidenCliOptions& o) {
   checkOutputFile(o.out, "--out", o);
   if (!o.configOut.empty())
     checkOutputFile(o.configOut, "--config-out", o);
-  network::widenedConfig(network::NetworkConfig{}, o.widen.factor); // checks --factor first
+  network::checkWidenOptions(o.widen); // before the weights are read
   const network::LoadedNetwork from = network::loadNetwork(o.config, o.weights, std::nullopt);
   const std::unique_ptr<network::SimpliNetwork> wide =
       network::widenNetwork(*from.network, o.widen);

@@ -262,9 +262,17 @@ void widenDecoder(WeightMapper& m, const std::string& prefix, const ConvMLP& dec
 
 } // namespace
 
+void checkWidenOptions(const WidenOptions& options) {
+  if (options.factor < 2 || options.factor > 8)
+    fail("widen: factor ", options.factor, " must be between 2 and 8");
+  if (!(options.noise >= 0 && std::isfinite(options.noise)))
+    fail("widen: noise ", options.noise, " must be finite and >= 0");
+}
+
 NetworkConfig widenedConfig(const NetworkConfig& config, int factor) {
-  if (factor < 2 || factor > 8)
-    fail("widen: factor ", factor, " must be between 2 and 8");
+  WidenOptions factorOnly;
+  factorOnly.factor = factor;
+  checkWidenOptions(factorOnly);
   NetworkConfig c = config;
   c.name =
       (config.name.empty() ? std::string("network") : config.name) + "-x" + std::to_string(factor);
@@ -287,8 +295,7 @@ NetworkConfig widenedConfig(const NetworkConfig& config, int factor) {
 
 std::unique_ptr<SimpliNetwork> widenNetwork(const SimpliNetwork& from,
                                             const WidenOptions& options) {
-  if (!(options.noise >= 0 && std::isfinite(options.noise)))
-    fail("widen: noise ", options.noise, " must be finite and >= 0");
+  checkWidenOptions(options);
   const NetworkConfig& c = from.config();
   const int f = options.factor;
   auto to =

@@ -28,6 +28,9 @@ struct WidenOptions {
   uint64_t seed = 0;   ///< draws the perturbation
 };
 
+/// Throws simpli::Error naming the field unless 2 <= factor <= 8 and noise is finite and >= 0.
+void checkWidenOptions(const WidenOptions& options);
+
 /// `config` with every internal width (above) multiplied by `factor`; the name gets "-x<factor>".
 /// Throws simpli::Error unless 2 <= factor <= 8.
 NetworkConfig widenedConfig(const NetworkConfig& config, int factor);
