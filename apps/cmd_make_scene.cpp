@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <regex>
+#include <vector>
 
 namespace simpli::app {
 
@@ -31,6 +32,7 @@ struct MakeSceneOptions {
   std::string style = "objects";
   std::string textures = "procedural";
   std::string photoDir;
+  std::vector<double> objectSize; ///< world style: MIN,MAX occluder width / image width
   bool force = false;
 };
 
@@ -74,6 +76,19 @@ void runMakeScene(const MakeSceneOptions& o) {
   if (!o.photoDir.empty() && p.textures != synthetic::TextureSet::Photo)
     fail("--photo-dir '", o.photoDir, "': only with --textures photo");
   parseSize(o.size, p.width, p.height);
+  if (!o.objectSize.empty()) {
+    if (p.style != synthetic::SceneStyle::World)
+      fail("--object-size: only with --style world");
+    if (o.objectSize.size() != 2)
+      fail("--object-size: expected MIN,MAX (two numbers), got ", o.objectSize.size());
+    const double low = o.objectSize[0], high = o.objectSize[1];
+    using World = synthetic::WorldStyleParams;
+    if (!(low >= World::kObjectSizeLow && low <= high && high <= World::kObjectSizeHigh))
+      fail("--object-size ", low, ",", high, ": need ", World::kObjectSizeLow,
+           " <= MIN <= MAX <= ", World::kObjectSizeHigh, " (x the image width)");
+    p.world.objectSizeMin = low;
+    p.world.objectSizeMax = high;
+  }
   p.validate(); // the remaining limits (e.g. views <= 10000), named by field
   io::checkOutputLocation(o.out, "--out");
 
@@ -168,6 +183,12 @@ void addMakeSceneCommand(CLI::App& app) {
   cmd->add_option("--photo-dir", opts->photoDir,
                   "With --textures photo: a folder of .jpg/.png photographs (default: the "
                   "Debian photo packages, scripts/install-photos.sh)");
+  cmd->add_option("--object-size", opts->objectSize,
+                  "With --style world: MIN,MAX apparent width of the occluders / image width, "
+                  "log-uniform (default 0.08,0.6; dense small clutter: e.g. 0.03,0.2 with "
+                  "--objects 40)")
+      ->delimiter(',')
+      ->expected(1, 2);
   cmd->add_flag("--force", opts->force, "Replace DIR if it holds a scene written by make-scene");
   cmd->callback([opts] { runMakeScene(*opts); });
 }

@@ -247,6 +247,10 @@ void SyntheticSceneParams::validate() const {
     checkRange("world.translationMax", w.translationMax, w.translationMin,
                WorldStyleParams::kTranslationHigh);
     checkRange("world.rotationDegreesMax", w.rotationDegreesMax, 0.0, 10.0);
+    checkRange("world.objectSizeMin", w.objectSizeMin, WorldStyleParams::kObjectSizeLow,
+               WorldStyleParams::kObjectSizeHigh);
+    checkRange("world.objectSizeMax", w.objectSizeMax, w.objectSizeMin,
+               WorldStyleParams::kObjectSizeHigh);
     checkRange("world.thinStructuresMin", w.thinStructuresMin, 0, 100);
     checkRange("world.thinStructuresMax", w.thinStructuresMax, w.thinStructuresMin, 100);
     // Without sky the far plane (slanted up to kWorldMaxSlant) must fill every view, as below.

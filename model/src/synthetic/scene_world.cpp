@@ -99,7 +99,7 @@ ShapeRole occluderRole(Random& rng) {
 
 // Occluder i: object 0 is the nearest (front at 1 .. 1.1 x nearDepth, near the image centre),
 // the others at disparity-uniform depths, often overlapping an earlier one; apparent sizes
-// 8 .. 60 % of the image width.
+// log-uniform in world.objectSize (default 8 .. 60 % of the image width).
 Shape placeOccluder(const Placement& where, const std::vector<Shape>& placed, int index,
                     Random& rng) {
   const SyntheticSceneParams& p = where.p;
@@ -120,7 +120,7 @@ Shape placeOccluder(const Placement& where, const std::vector<Shape>& placed, in
         u = 0.5 + p.fx() * other.centre.x() / other.centre.z() + rng.uniform(-0.15, 0.15);
         v = 0.5 + p.fy() * other.centre.y() / other.centre.z() + rng.uniform(-0.15, 0.15);
       }
-      apparent = logUniform(rng, 0.08, 0.6);
+      apparent = logUniform(rng, p.world.objectSizeMin, p.world.objectSizeMax);
     }
     const double scale = 0.5 * apparent * zFront / p.fx();
     const double pixel = pixelAt(p, zFront);

@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -62,6 +64,17 @@ json shapeJson(const Shape& s) {
               {"size", vec(s.size)},      {"texture", textureJson(s.texture)}};
 }
 
+// The shortest decimal text that reads back as x (0.03, not 0.029999999999999999).
+std::string shortestText(double x) {
+  char text[32];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, x);
+    if (std::strtod(text, nullptr) == x)
+      break;
+  }
+  return text;
+}
+
 // The make-scene command that reproduces the scene, when the parameters it cannot set are at
 // their defaults.
 std::string commandFor(const SyntheticSceneParams& p) {
@@ -89,6 +102,11 @@ std::string commandFor(const SyntheticSceneParams& p) {
                         std::to_string(p.objects) + " --antialias " + std::to_string(p.antialias);
   if (p.style != SceneStyle::Objects)
     command += " --style " + std::string(toString(p.style));
+  if (p.style == SceneStyle::World &&
+      (w.objectSizeMin != dw.objectSizeMin || w.objectSizeMax != dw.objectSizeMax)) {
+    command +=
+        " --object-size " + shortestText(w.objectSizeMin) + "," + shortestText(w.objectSizeMax);
+  }
   if (p.textures != TextureSet::Procedural)
     command +=
         " --textures " + std::string(toString(p.textures)) +
@@ -153,6 +171,10 @@ std::string sceneDescriptionJson(const SyntheticScene& scene,
                             {"translation", {w.translationMin, w.translationMax}},
                             {"rotation_degrees_max", w.rotationDegreesMax},
                             {"thin_structures", {w.thinStructuresMin, w.thinStructuresMax}}};
+    // Only when not the default, so that default world scenes stay byte-identical.
+    if (w.objectSizeMin != WorldStyleParams{}.objectSizeMin ||
+        w.objectSizeMax != WorldStyleParams{}.objectSizeMax)
+      j["params"]["world"]["object_size"] = {w.objectSizeMin, w.objectSizeMax};
     const WorldLayout& l = scene.world;
     j["world"] = {{"fov_degrees", l.fovDegrees},
                   {"far_depth", l.farDepth},

@@ -74,6 +74,7 @@ void readSynthetic(const json& object, const std::string& source, SyntheticConfi
   f.readInteger("objects", out.objects);
   f.readInteger("antialias", out.antialias);
   f.readPair("translation", out.translationMin, out.translationMax);
+  f.readPair("object_size", out.objectSizeMin, out.objectSizeMax);
   const std::string size = stringField(f, "size", "");
   if (!size.empty())
     parseWidthHeight(size, named("size"), out.width, out.height);
@@ -190,6 +191,11 @@ void TrainingConfig::validate(const std::string& source) const {
     fail(source, ": field \"synthetic.translation\" = [", y.translationMin, ", ", y.translationMax,
          "]: need ", World::kTranslationLow, " <= low <= high <= ", World::kTranslationHigh,
          " (x the nearest depth)");
+  if (!(y.objectSizeMin >= World::kObjectSizeLow && y.objectSizeMin <= y.objectSizeMax &&
+        y.objectSizeMax <= World::kObjectSizeHigh))
+    fail(source, ": field \"synthetic.object_size\" = [", y.objectSizeMin, ", ", y.objectSizeMax,
+         "]: need ", World::kObjectSizeLow, " <= low <= high <= ", World::kObjectSizeHigh,
+         " (x the image width)");
   if ((y.width == 0) != (y.height == 0) || y.width % 16 != 0 || y.height % 16 != 0 || y.width < 0 ||
       y.height < 0)
     fail(source, ": field \"synthetic.size\" = \"", y.width, "x", y.height,
@@ -313,6 +319,7 @@ std::string toJson(const TrainingConfig& c) {
                        {"objects", y.objects},
                        {"antialias", y.antialias},
                        {"translation", {y.translationMin, y.translationMax}},
+                       {"object_size", {y.objectSizeMin, y.objectSizeMax}},
                        {"size", y.width > 0
                                     ? std::to_string(y.width) + "x" + std::to_string(y.height)
                                     : std::string()}};

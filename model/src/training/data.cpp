@@ -130,6 +130,8 @@ private:
     p.photoProbability = c.photoProbability;
     p.world.translationMin = c.translationMin;
     p.world.translationMax = c.translationMax;
+    p.world.objectSizeMin = c.objectSizeMin;
+    p.world.objectSizeMax = c.objectSizeMax;
     if (c.height > 0 && c.width > 0) {
       p.height = c.height;
       p.width = c.width;

@@ -167,6 +167,43 @@ TEST(WorldStyle, ThinStructuresAreThin) {
   EXPECT_GT(thinSeen, 20);
 }
 
+// world.objectSize bounds the occluders' apparent width: a fronto-parallel rectangle other than
+// the first (nearest) occluder is 0.6 .. 1.4 x the drawn fraction of the image width wide.
+TEST(WorldStyle, ObjectSizeBoundsTheOccluders) {
+  auto widths = [](double low, double high) {
+    std::vector<double> w;
+    for (uint64_t seed = 0; seed < 10; ++seed) {
+      SyntheticSceneParams p = worldParams(seed);
+      p.objects = 30;
+      p.world.objectSizeMin = low;
+      p.world.objectSizeMax = high;
+      const SyntheticScene s = generateSyntheticScene(p);
+      const double fx = 0.5 / std::tan(0.5 * s.world.fovDegrees * kDeg); // relative to the width
+      bool first = true;
+      for (const Shape& o : s.objects) {
+        if (o.role == ShapeRole::Distant || isThin(o.role))
+          continue;
+        const bool nearest = first;
+        first = false;
+        if (nearest || o.role != ShapeRole::FrontoPlane)
+          continue;
+        w.push_back(2 * o.size.x() * fx / o.centre.z());
+      }
+    }
+    return w;
+  };
+  const std::vector<double> small = widths(0.02, 0.05);
+  ASSERT_GT(small.size(), 20u);
+  for (double w : small) {
+    EXPECT_GE(w, 0.6 * 0.02 * (1 - 1e-9));
+    EXPECT_LE(w, 1.4 * 0.05 * (1 + 1e-9));
+  }
+  // The default range draws wider ones (the bound above is not vacuous).
+  const std::vector<double> wide =
+      widths(WorldStyleParams{}.objectSizeMin, WorldStyleParams{}.objectSizeMax);
+  EXPECT_GT(*std::max_element(wide.begin(), wide.end()), 0.2);
+}
+
 TEST(WorldStyle, DeterministicPerSeed) {
   const SyntheticSceneParams p = worldParams(11);
   const SyntheticScene a = generateSyntheticScene(p), b = generateSyntheticScene(p);
@@ -218,6 +255,9 @@ TEST(WorldStyle, ParamsValidated) {
   bad([](auto& p) { p.world.translationMin = 0; }, {"'world.translationMin' is 0"});
   bad([](auto& p) { p.world.rotationDegreesMax = 20; }, {"'world.rotationDegreesMax' is 20"});
   bad([](auto& p) { p.world.thinStructuresMax = 0; }, {"'world.thinStructuresMax' is 0"});
+  bad([](auto& p) { p.world.objectSizeMin = 0.001; }, {"'world.objectSizeMin' is 0.001"});
+  bad([](auto& p) { p.world.objectSizeMax = 0.05; }, {"'world.objectSizeMax' is 0.05"});
+  bad([](auto& p) { p.world.objectSizeMax = 1.5; }, {"'world.objectSizeMax' is 1.5"});
   bad([](auto& p) { p.height = 4000; }, {"far plane could be missed"});
   SyntheticSceneParams sky = worldParams(0, 64, 4000);
   sky.world.skyProbability = 1.0; // every ray that misses sees the sky: no such limit

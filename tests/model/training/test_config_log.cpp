@@ -163,12 +163,14 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_TRUE(d.synthetic.photosRequired);
   EXPECT_DOUBLE_EQ(d.synthetic.translationMin, synthetic::WorldStyleParams{}.translationMin);
   EXPECT_DOUBLE_EQ(d.synthetic.translationMax, synthetic::WorldStyleParams{}.translationMax);
+  EXPECT_DOUBLE_EQ(d.synthetic.objectSizeMin, 0.08);
+  EXPECT_DOUBLE_EQ(d.synthetic.objectSizeMax, 0.6);
   const TrainingConfig c = parseTrainingConfig(
       R"({"network": "official-4l",
           "synthetic": {"style": "world", "textures": "photo", "photo_probability": 0.5,
                         "photo_dir": "/photos", "photos_required": false, "views": 16,
                         "objects": 5, "antialias": 2, "size": "256x192",
-                        "translation": [0.1, 0.45]}})",
+                        "translation": [0.1, 0.45], "object_size": [0.03, 0.2]}})",
       "t.json", "");
   EXPECT_EQ(c.synthetic.style, synthetic::SceneStyle::World);
   EXPECT_EQ(c.synthetic.textures, synthetic::TextureSet::Photo);
@@ -182,6 +184,8 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_EQ(c.synthetic.height, 192);
   EXPECT_DOUBLE_EQ(c.synthetic.translationMin, 0.1);
   EXPECT_DOUBLE_EQ(c.synthetic.translationMax, 0.45);
+  EXPECT_DOUBLE_EQ(c.synthetic.objectSizeMin, 0.03);
+  EXPECT_DOUBLE_EQ(c.synthetic.objectSizeMax, 0.2);
   const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
   EXPECT_EQ(toJson(back), toJson(c));
   EXPECT_EQ(toJson(parseTrainingConfig(toJson(d), "back", "")), toJson(d));
@@ -192,6 +196,9 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
   other = c;
   other.synthetic.translationMax = 0.3;
+  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
+  other = c;
+  other.synthetic.objectSizeMax = 0.6;
   EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
 }
 
@@ -226,6 +233,13 @@ TEST(TrainConfig, SyntheticSectionBadFieldsAreNamed) {
   expectError(parse(R"({"translation": [0.1, 0.9]})"),
               {"w.json", "\"synthetic.translation\" = [0.1, 0.9]", "0.5"});
   expectError(parse(R"({"translation": 0.2})"), {"w.json", "translation"});
+  expectError(parse(R"({"object_size": [0.2, 0.03]})"),
+              {"w.json", "\"synthetic.object_size\" = [0.2, 0.03]", "low <= high"});
+  expectError(parse(R"({"object_size": [0, 0.2]})"),
+              {"w.json", "\"synthetic.object_size\" = [0, 0.2]", "0.005"});
+  expectError(parse(R"({"object_size": [0.1, 1.5]})"),
+              {"w.json", "\"synthetic.object_size\" = [0.1, 1.5]", "x the image width"});
+  expectError(parse(R"({"object_size": 0.1})"), {"w.json", "object_size"});
   expectError(parse(R"("world")"), {"w.json", "synthetic"});
 }
 

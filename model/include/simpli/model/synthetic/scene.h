@@ -55,6 +55,12 @@ struct WorldStyleParams {
   /// What validate() accepts for the translation range (training configs check the same).
   static constexpr double kTranslationLow = 1e-4, kTranslationHigh = 0.5;
   double rotationDegreesMax = 2.0; ///< bound on yaw, pitch, roll: 0.25 .. 1 x this per scene
+  /// Apparent width of the occluders after the first / image width, log-uniform. Dense small
+  /// clutter (foliage: LLFF flower's leaves are ~5-20 % of the image) needs a lower range and
+  /// more `objects` than the default's few large shapes.
+  double objectSizeMin = 0.08, objectSizeMax = 0.6;
+  /// What validate() accepts for the object size range (training configs check the same).
+  static constexpr double kObjectSizeLow = 0.005, kObjectSizeHigh = 1.0;
   int thinStructuresMin = 1, thinStructuresMax = 4; ///< poles, posts, wires, branches
 };
 

@@ -36,7 +36,8 @@
 //                                                   // (true) or procedural + notice (false)
 //                 "views": 12, "objects": 8, "antialias": 4,
 //                 "size": "192x128",                // WxH; --size overrides; "" = 192x128
-//                 "translation": [0.01, 0.3]}       // world style: camera spread / near depth
+//                 "translation": [0.01, 0.3],       // world style: camera spread / near depth
+//                 "object_size": [0.08, 0.6]}       // world style: occluder width / image width
 // }
 #include "simpli/model/network/config.h"
 #include "simpli/model/synthetic/scene.h"
@@ -101,6 +102,9 @@ struct SyntheticConfig {
   /// ignores it). Real handheld captures reach 0.25 .. 0.55 (LLFF flower: ~0.28).
   double translationMin = synthetic::WorldStyleParams{}.translationMin;
   double translationMax = synthetic::WorldStyleParams{}.translationMax;
+  /// World style: the occluders' apparent width / image width, log-uniform in [min, max].
+  double objectSizeMin = synthetic::WorldStyleParams{}.objectSizeMin;
+  double objectSizeMax = synthetic::WorldStyleParams{}.objectSizeMax;
 };
 
 /// The loss terms, in log order, with the reference's key names.
