@@ -3,12 +3,15 @@
 // nearest-source-view baseline on the same samples. Several networks are scored on the same
 // samples, with each one's time to build the surfaces and its paired difference to the first.
 // `--protocol rff` is the paper's Real Forward-Facing protocol; `--out DIR` keeps the evidence
-// (views.csv and one comparison picture per view of the first sample).
+// (views.csv and one comparison picture per view of the first sample). A --weights entry
+// `baseline:plane-sweep` is the non-learned plane-sweep stereo yardstick
+// (baselines/plane_sweep_stereo.h), scored on the same samples as the networks.
 #include "commands.h"
 #include "progress_bar.h"
 #include "reference_margin_option.h"
 
 #include "simpli/error.h"
+#include "simpli/model/baselines/plane_sweep_stereo.h"
 #include "simpli/model/io/files.h"
 #include "simpli/model/io/staged_folder.h"
 #include "simpli/model/metrics/comparison_grid.h"
@@ -63,6 +66,13 @@ void applyProtocol(EvalCliOptions& o) {
     o.repeats = 20;
   if (!o.givenWindow)
     o.window = 0;
+}
+
+// The --weights entry that names the plane-sweep stereo baseline instead of a weights file.
+constexpr const char* kPlaneSweepBaseline = "baseline:plane-sweep";
+
+bool isBaseline(const std::string& weights) {
+  return weights.rfind("baseline:", 0) == 0;
 }
 
 std::string csvQuote(const std::string& s) {
@@ -156,6 +166,12 @@ void runEval(EvalCliOptions o) {
   // Every network is loaded (and its config checked) before the first one is scored.
   std::vector<std::unique_ptr<network::SimpliNetwork>> networks;
   for (const std::string& weights : o.weights) {
+    if (isBaseline(weights)) {
+      if (weights != kPlaneSweepBaseline)
+        fail("--weights '", weights, "': unknown baseline (expected ", kPlaneSweepBaseline, ")");
+      networks.push_back(nullptr);
+      continue;
+    }
     network::NetworkConfig config;
     if (!o.config.empty()) {
       config = training::loadNetworkOrTrainingConfig(o.config);
@@ -195,9 +211,17 @@ void runEval(EvalCliOptions o) {
                         (std::filesystem::path(o.out) / name).string());
     };
     e.referenceMargin = o.referenceMargins[i];
-    results.push_back(training::evaluate(
-        *networks[i], *source, e,
-        [&](int done, int) { bar.update(int64_t(i) * perNetwork + done); }, picture));
+    auto progress = [&](int done, int) { bar.update(int64_t(i) * perNetwork + done); };
+    if (networks[i]) {
+      results.push_back(training::evaluate(*networks[i], *source, e, progress, picture));
+    } else {
+      const baselines::PlaneSweepStereoOptions stereo;
+      results.push_back(training::evaluate(
+          [&](const generator::GeneratorInput& in) {
+            return baselines::planeSweepStereo(in, stereo);
+          },
+          o.dtype == "f64" ? ocl::Dtype::F64 : ocl::Dtype::F32, *source, e, progress, picture));
+    }
   }
   bar.finish();
   if (!o.out.empty())
@@ -221,6 +245,16 @@ void runEval(EvalCliOptions o) {
   const bool several = networks.size() > 1;
   auto label = [&](size_t i) { return several ? "model " + std::to_string(i + 1) : "model"; };
   for (size_t i = 0; i < networks.size(); ++i) {
+    if (!networks[i]) {
+      const baselines::PlaneSweepStereoOptions stereo;
+      std::printf(
+          "  %-22s %s (no network: one opaque surface from %d planes, RGB variance over "
+          "%d px windows; reference margin %g; building it %.0f +- %.0f ms per sample)\n",
+          label(i).c_str(), o.weights[i].c_str(), stereo.planes,
+          baselines::windowPixels(stereo, generator::scaledSize(scene0.width(), o.inputScale)),
+          o.referenceMargins[i], results[i].build.mean, results[i].build.std);
+      continue;
+    }
     const network::NetworkConfig& c = networks[i]->config();
     std::printf("  %-22s %s (config %s, %d %s; reference margin %g; building them %.0f +- %.0f "
                 "ms per sample)\n",
@@ -266,7 +300,8 @@ void addEvalCommand(CLI::App& app) {
       ->required();
   cmd->add_option("--weights", opts->weights,
                   "Network weights (safetensors); several (comma separated) are scored on the "
-                  "same samples")
+                  "same samples; baseline:plane-sweep is classical plane-sweep stereo (no "
+                  "network), a yardstick for what a network has learnt")
       ->required()
       ->delimiter(',');
   cmd->add_option("--config", opts->config,

@@ -79,24 +79,31 @@ void forEachEvalSample(
 EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const EvalOptions& o,
                     const std::function<void(int, int)>& progress,
                     const std::function<void(const EvalViewImages&)>& onView) {
-  const uint64_t scenes = data.sceneCount() > 0 ? data.sceneCount() : uint64_t(o.scenes);
-  const int total = int(scenes) * o.repeats;
-  ocl::NoGradGuard noGrad;
   generator::Generator generator(network);
   generator::GeneratorOptions go;
   go.corrections = o.corrections;
   go.raster = o.raster;
+  return evaluate([&](const generator::GeneratorInput& in) { return generator.forward(in, go); },
+                  network.parameters().dtype(), data, o, progress, onView);
+}
+
+EvalResult evaluate(const SurfaceBuilder& build, ocl::Dtype inputDtype, TrainingData& data,
+                    const EvalOptions& o, const std::function<void(int, int)>& progress,
+                    const std::function<void(const EvalViewImages&)>& onView) {
+  const uint64_t scenes = data.sceneCount() > 0 ? data.sceneCount() : uint64_t(o.scenes);
+  const int total = int(scenes) * o.repeats;
+  ocl::NoGradGuard noGrad;
   EvalResult result;
   int done = 0;
   forEachEvalSample(data, o, [&](const TrainingSample& s, uint64_t si, int r) {
-    const generator::GeneratorInput in = sampleInput(s, o.inputScale, network.parameters().dtype());
+    const generator::GeneratorInput in = sampleInput(s, o.inputScale, inputDtype);
     if (done == 0 && o.warmUp) { // warm-up: PoCL compiles kernels on first use, which is not
                                  // build time
-      generator.forward(in, go);
+      build(in);
       ocl::Device::current().finish();
     }
     const auto t0 = std::chrono::steady_clock::now();
-    const generator::GeneratorOutput out = generator.forward(in, go);
+    const generator::GeneratorOutput out = build(in);
     ocl::Device::current().finish();
     result.buildMs.push_back(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());

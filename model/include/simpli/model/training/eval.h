@@ -86,8 +86,20 @@ void forEachEvalSample(
 /// A rendered colour [3, H, W] (RGB in [-1, 1]) as an image; `what` names the caller in errors.
 io::Image renderedImage(const ocl::Tensor& colour, const char* what);
 
+/// Builds the surfaces of one sample: a network's generator, or a non-learned baseline
+/// (baselines/plane_sweep_stereo.h).
+using SurfaceBuilder =
+    std::function<generator::GeneratorOutput(const generator::GeneratorInput& input)>;
+
 /// `onView`, when given, sees every scored view's pictures (to save comparison grids).
 EvalResult evaluate(network::SimpliNetwork& network, TrainingData& data, const EvalOptions& options,
+                    const std::function<void(int done, int total)>& progress = {},
+                    const std::function<void(const EvalViewImages&)>& onView = {});
+
+/// The same protocol for any builder; the sources reach it as `inputDtype` tensors.
+/// options.corrections does not apply (the builder decides).
+EvalResult evaluate(const SurfaceBuilder& build, ocl::Dtype inputDtype, TrainingData& data,
+                    const EvalOptions& options,
                     const std::function<void(int done, int total)>& progress = {},
                     const std::function<void(const EvalViewImages&)>& onView = {});
 
