@@ -98,6 +98,35 @@ SweepStatistics sweepStatistics(const generator::GeneratorInput& in,
 
 } // namespace
 
+std::vector<std::vector<double>> planeProbabilities(const generator::GeneratorInput& in,
+                                                    const std::vector<double>& depths,
+                                                    const PlaneSweepStereoOptions& o, int height,
+                                                    int width) {
+  checkOptions(o);
+  const int H = int(in.images.size(2)), W = int(in.images.size(3));
+  if (height < 1 || width < 1 || H % height != 0 || W % width != 0)
+    fail("plane-sweep stereo: ", width, " x ", height, " does not divide the input's ", W, " x ",
+         H);
+  ocl::NoGradGuard noGrad;
+  const SweepStatistics s = sweepStatistics(in, depths, o);
+  const size_t HW = size_t(H) * W, P = depths.size();
+  const int fy = H / height, fx = W / width;
+  std::vector<std::vector<double>> out(P, std::vector<double>(size_t(height) * width, 0.0));
+  for (size_t i = 0; i < HW; ++i) {
+    double best = std::numeric_limits<double>::infinity(), total = 0;
+    for (size_t p = 0; p < P; ++p)
+      best = std::min(best, s.cost[p][i]);
+    std::vector<double> w(P);
+    for (size_t p = 0; p < P; ++p)
+      total += w[p] = std::exp(-(s.cost[p][i] - best) / o.temperature);
+    const size_t y = i / size_t(W), x = i % size_t(W);
+    const size_t j = (y / size_t(fy)) * size_t(width) + x / size_t(fx);
+    for (size_t p = 0; p < P; ++p)
+      out[p][j] += w[p] / total / (double(fy) * fx);
+  }
+  return out;
+}
+
 int windowPixels(const PlaneSweepStereoOptions& o, int width) {
   const int n = int(std::lround(o.windowFraction * width));
   return std::max(1, n % 2 == 1 ? n : n + 1);

@@ -176,6 +176,10 @@ void TrainingConfig::validate(const std::string& source) const {
          "]: need 0 <= low <= high <= 1");
   if (!(s.referenceMargin >= 0 && s.referenceMargin <= scene::maxReferenceMargin))
     bad("sampling.reference_margin", s.referenceMargin, "must be in [0, 0.5]");
+  if (!(s.sourceExposureStd >= 0 && s.sourceExposureStd <= 0.5 && s.sourceChannelStd >= 0 &&
+        s.sourceChannelStd <= 0.5))
+    fail(source, ": field \"sampling.source_gain_std\" = [", s.sourceExposureStd, ", ",
+         s.sourceChannelStd, "]: need both in [0, 0.5] (log-gain standard deviations)");
   const SyntheticConfig& y = synthetic;
   if (!(y.photoProbability >= 0 && y.photoProbability <= 1))
     bad("synthetic.photo_probability", y.photoProbability, "must be in [0, 1]");
@@ -263,6 +267,7 @@ TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::strin
     f.readNumber("mixup_probability", sc.mixupProbability);
     f.readPair("mixup_lambda", sc.mixupLambdaMin, sc.mixupLambdaMax);
     f.readNumber("reference_margin", sc.referenceMargin);
+    f.readPair("source_gain_std", sc.sourceExposureStd, sc.sourceChannelStd);
     f.finish();
   }
   if (const json* s = top.find("synthetic"))
@@ -308,7 +313,8 @@ std::string toJson(const TrainingConfig& c) {
                       {"zoom", s.zoomScales},
                       {"mixup_probability", s.mixupProbability},
                       {"mixup_lambda", {s.mixupLambdaMin, s.mixupLambdaMax}},
-                      {"reference_margin", s.referenceMargin}};
+                      {"reference_margin", s.referenceMargin},
+                      {"source_gain_std", {s.sourceExposureStd, s.sourceChannelStd}}};
   const SyntheticConfig& y = c.synthetic;
   root["synthetic"] = {{"style", synthetic::toString(y.style)},
                        {"textures", synthetic::toString(y.textures)},

@@ -10,6 +10,38 @@
 
 namespace simpli::training {
 
+namespace {
+
+/// Standard normal from two uniforms (Box-Muller), spelled out like the sampler's other
+/// distributions so that runs agree across platforms.
+double standardNormal(TrainRandom& random) {
+  const double u1 = 1.0 - random.uniform(), u2 = random.uniform(); // u1 in (0, 1]
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+}
+
+/// SamplingConfig::sourceExposureStd: the gains come from a stream seeded by the sampler's state
+/// after this sample's draws (read, not advanced), so the sample sequence is the same with or
+/// without the jitter and a resumed run draws the same gains.
+void jitterSourceGains(TrainingSample& s, const SamplingConfig& config,
+                       const TrainRandom::State& state) {
+  TrainRandom random(state[0] ^ (state[1] * 0x9E3779B97F4A7C15ULL) ^ 0x50484f544fULL);
+  for (io::Image& image : s.sources) {
+    const double exposure = config.sourceExposureStd * standardNormal(random);
+    std::array<double, 3> gains{};
+    for (double& g : gains)
+      g = std::exp(exposure + config.sourceChannelStd * standardNormal(random));
+    const size_t plane = image.data.size() / 3;
+    for (size_t c = 0; c < 3; ++c)
+      for (size_t i = c * plane; i < (c + 1) * plane; ++i) {
+        const double x = std::clamp(0.5 * (double(image.data[i]) + 1.0) * gains[c], 0.0, 1.0);
+        image.data[i] = float(2.0 * x - 1.0);
+      }
+    s.sourceGains.push_back(gains);
+  }
+}
+
+} // namespace
+
 FrameDraw drawFrames(int frames, const SamplingConfig& c, TrainRandom& random) {
   if (frames < 2)
     fail("sampler: a scene needs at least 2 frames (a source and a target), got ", frames);
@@ -206,6 +238,8 @@ TrainingSample Sampler::drawWithFrames(const scene::Scene& scene, uint64_t scene
       s.mixupLambda[size_t(v)] = lambda;
     }
   }
+  if (config_.sourceExposureStd > 0 || config_.sourceChannelStd > 0)
+    jitterSourceGains(s, config_, random_.state());
   return s;
 }
 

@@ -49,13 +49,16 @@ TEST(TrainConfig, RoundTripAndNetworkFile) {
       R"({"network": "tiny.json", "dtype": "f64", "seed": 5, "steps": 7,
           "optimizer": {"lr": 1e-3, "warmup_steps": 25}, "loss_weights": {"perceptual": 10},
           "sampling": {"crop": [32, 48], "mixup_lambda": [0.1, 0.2], "window": 6,
-                       "zoom": [1.0, 1.3], "reference_margin": 0.06}})",
+                       "zoom": [1.0, 1.3], "reference_margin": 0.06,
+                       "source_gain_std": [0.04, 0.015]}})",
       "t.json", SIMPLI_NETWORK_CONFIG_DIR);
   EXPECT_EQ(c.network.name, "tiny");
   EXPECT_EQ(c.dtype, ocl::Dtype::F64);
   EXPECT_EQ(c.sampling.cropWidth, 48);
   EXPECT_EQ(c.sampling.zoomScales, (std::vector<double>{1.0, 1.3}));
   EXPECT_DOUBLE_EQ(c.sampling.referenceMargin, 0.06);
+  EXPECT_DOUBLE_EQ(c.sampling.sourceExposureStd, 0.04);
+  EXPECT_DOUBLE_EQ(c.sampling.sourceChannelStd, 0.015);
   EXPECT_EQ(c.optimizer.warmupSteps, 25);
   const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
   EXPECT_EQ(toJson(back), toJson(c));
@@ -124,6 +127,15 @@ TEST(TrainConfig, BadInputNamesFieldAndValue) {
               "a.json", "");
         },
         {"a.json", "sampling.reference_margin"});
+  for (const char* gains : {"[-0.01, 0]", "[0.1, 0.6]", "0.05", "[0.1]"})
+    expectError(
+        [&] {
+          parseTrainingConfig(
+              std::string(R"({"network": "official-4l", "sampling": {"source_gain_std": )") +
+                  gains + "}}",
+              "a.json", "");
+        },
+        {"a.json", "source_gain_std"});
   expectError(
       [] { parseTrainingConfig(R"({"network": "official-4l", "ema_decay": 1})", "a.json", ""); },
       {"a.json", "ema_decay", "[0, 1)"});

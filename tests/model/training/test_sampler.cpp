@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <set>
 
 namespace simpli::training {
@@ -207,6 +209,55 @@ TEST(TrainSampler, CropPixelsAndReferenceCameraAndMixup) {
   big.cropHeight = 64;
   Sampler s2(big, 0);
   test::expectError([&] { s2.drawFromScene(scene, 0); }, {"crop 64x16", "larger", "32x48"});
+}
+
+// Photometric jitter: the same seed draws the same samples with and without it (frames, crops,
+// MixUp, clean sources); every source is its MixUp image times its RGB gains in [0, 1], clipped;
+// the log gains have the configured spread (exposure shared by the channels of a source); a
+// restored sampler state draws the same gains.
+TEST(TrainSampler, SourceGainJitterKeepsTheSamplesAndHasItsSpread) {
+  SamplingConfig c;
+  c.mixupProbability = 0.5;
+  SamplingConfig j = c;
+  j.sourceExposureStd = 0.05;
+  j.sourceChannelStd = 0.02;
+  const scene::Scene scene = fakeScene(9, 24, 16);
+  Sampler plain(c, 11), jittered(j, 11);
+  std::vector<double> exposure, channel; // mean log gain of a source; a channel's deviation
+  for (int it = 0; it < 300; ++it) {
+    const TrainingSample a = plain.drawFromScene(scene, 0), b = jittered.drawFromScene(scene, 0);
+    ASSERT_EQ(a.sourceFrames, b.sourceFrames);
+    ASSERT_EQ(a.mixupLambda, b.mixupLambda);
+    ASSERT_EQ(a.cleanSources[0].data, b.cleanSources[0].data);
+    EXPECT_TRUE(a.sourceGains.empty());
+    ASSERT_EQ(b.sourceGains.size(), b.sources.size());
+    for (size_t v = 0; v < b.sources.size(); ++v) {
+      const std::array<double, 3>& g = b.sourceGains[v];
+      const double mean = (std::log(g[0]) + std::log(g[1]) + std::log(g[2])) / 3;
+      exposure.push_back(mean);
+      channel.push_back(std::log(g[0]) - mean);
+      for (int ch = 0; ch < 3; ++ch) {
+        const double x = 0.5 * (a.sources[v].at(ch, 5, 7) + 1.0);
+        const double expect = std::clamp(x * g[size_t(ch)], 0.0, 1.0) * 2 - 1;
+        EXPECT_NEAR(b.sources[v].at(ch, 5, 7), expect, 1e-6);
+      }
+    }
+  }
+  auto rms = [](const std::vector<double>& x) {
+    double s = 0;
+    for (double v : x)
+      s += v * v;
+    return std::sqrt(s / double(x.size()));
+  };
+  // Mean of the three log gains: exposure + the channels' mean, sd sqrt(0.05^2 + 0.02^2 / 3).
+  EXPECT_NEAR(rms(exposure), std::sqrt(0.05 * 0.05 + 0.02 * 0.02 / 3), 0.006);
+  // One channel minus that mean: sd 0.02 sqrt(2 / 3).
+  EXPECT_NEAR(rms(channel), 0.02 * std::sqrt(2.0 / 3.0), 0.002);
+  Sampler restored(j, 99);
+  restored.random().setState(jittered.random().state());
+  const TrainingSample x = jittered.drawFromScene(scene, 0), y = restored.drawFromScene(scene, 0);
+  EXPECT_EQ(x.sourceGains, y.sourceGains);
+  EXPECT_EQ(x.sources[0].data, y.sources[0].data);
 }
 
 // A zoom is a resize and a centre crop: the zoomed camera must see, at each pixel, the point of

@@ -38,6 +38,13 @@ void checkOptions(const PlaneSweepStereoOptions& options);
 generator::GeneratorOutput planeSweepStereo(const generator::GeneratorInput& input,
                                             const PlaneSweepStereoOptions& options = {});
 
+/// The matcher's softmin distribution over `depths` (any plane set, e.g. a network's), area-
+/// averaged from the input's H x W to height x width (divisors of H and W): [P][height * width].
+std::vector<std::vector<double>> planeProbabilities(const generator::GeneratorInput& input,
+                                                    const std::vector<double>& depths,
+                                                    const PlaneSweepStereoOptions& options,
+                                                    int height, int width);
+
 /// Window edge in pixels for an image `width` wide: the odd number nearest to
 /// windowFraction x width, at least 1.
 int windowPixels(const PlaneSweepStereoOptions& options, int width);

@@ -28,7 +28,8 @@
 //                "crop": [0, 0],            // [height, width]; 0 = the whole image
 //                "zoom": [1.0],             // zoom factors >= 1, one drawn per sample
 //                "mixup_probability": 0.9, "mixup_lambda": [0.0, 0.4],
-//                "reference_margin": 0},  // not in the reference: widenedCamera
+//                "reference_margin": 0,   // not in the reference: widenedCamera
+//                "source_gain_std": [0, 0]},  // not in the reference: [exposure, channel]
 //   "synthetic": {"style": "objects" | "world",   // the scenes of data synthetic[:SEED]
 //                 "textures": "procedural" | "photo", "photo_probability": 0.85,
 //                 "photo_dir": "",                  // "" = the Debian photo packages
@@ -80,6 +81,14 @@ struct SamplingConfig {
   /// the targets see beyond the sources' common frame, and the network learns to fill that
   /// border. The training monitor scores with the same margin.
   double referenceMargin = 0.0;
+  /// Per-source photometric jitter (not in the reference; 0 = none): every source image the
+  /// network sees (after MixUp) is multiplied, in [0, 1], by exp(e + c_ch) and clipped, with
+  /// e ~ N(0, sourceExposureStd) per source and c_ch ~ N(0, sourceChannelStd) per channel.
+  /// Frames of a real capture differ by a few % (LLFF flower: 0.95 .. 1.06 of the mean of five
+  /// views at matched points); synthetic renders agree exactly, so a network trained on them
+  /// alone may rely on exact colour agreement. The draws are a function of the sample (they do
+  /// not advance the sampler's stream): the same seed draws the same samples with or without it.
+  double sourceExposureStd = 0.0, sourceChannelStd = 0.0;
 };
 
 /// The procedural scenes of `simpli train synthetic[:SEED]` (synthetic/scene.h; ignored for

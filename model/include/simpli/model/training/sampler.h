@@ -18,6 +18,7 @@
 #include "simpli/model/training/data.h"
 #include "simpli/model/training/random.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct TrainingSample {
   int cropX = 0, cropY = 0;        ///< crop window origin in the (zoomed) scene's pixels
   std::vector<int> mixupPartner;   ///< per source: the blended source index, -1 = none
   std::vector<double> mixupLambda; ///< per source: lambda (0 when not blended)
+  /// Per source: the RGB gains of the photometric jitter (SamplingConfig::sourceExposureStd;
+  /// empty when off).
+  std::vector<std::array<double, 3>> sourceGains;
   /// Per target, when the data knows it (synthetic scenes): height x width camera z in
   /// normalised units, 0 = no surface, after the same zoom and crop as the target image
   /// (nearest texel); empty otherwise.
