@@ -126,6 +126,43 @@ TEST(PlaneSweepStereo, RecoversTwoFrontoParallelSurfaces) {
   EXPECT_LT(colourError / (3.0 * (checked[0] + checked[1])), 0.06);
 }
 
+// The softmin distribution over another plane set (a network's 17 planes), area-averaged to a
+// quarter of the size: every cell sums to 1, and cells inside the rectangle peak at its plane.
+TEST(PlaneSweepStereo, PlaneProbabilitiesOnANetworksPlanes) {
+  const StereoCase c = makeCase();
+  const std::vector<double> planes = geometry::planeDepths(17, 1.0, 100.0);
+  const int H = c.truth.height, W = c.truth.width, h = H / 4, w = W / 4;
+  const std::vector<std::vector<double>> prob =
+      baselines::planeProbabilities(c.input, planes, {}, h, w);
+  ASSERT_EQ(prob.size(), planes.size());
+  size_t nearestToFront = 0;
+  for (size_t p = 1; p < planes.size(); ++p)
+    if (std::abs(1 / planes[p] - 1 / 1.5) < std::abs(1 / planes[nearestToFront] - 1 / 1.5))
+      nearestToFront = p;
+  int inside = 0, peaked = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t j = size_t(y) * w + x;
+      double sum = 0;
+      size_t best = 0;
+      for (size_t p = 0; p < planes.size(); ++p) {
+        sum += prob[p][j];
+        if (prob[p][j] > prob[best][j])
+          best = p;
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-9);
+      if (awayFromEdges(c.truth, 4 * x + 2, 4 * y + 2, 8) &&
+          c.truth.depthAt(4 * x + 2, 4 * y + 2) < 2) {
+        ++inside;
+        peaked += best == nearestToFront;
+      }
+    }
+  ASSERT_GT(inside, 10);
+  EXPECT_GE(peaked, 0.9 * inside) << peaked << " of " << inside;
+  test::expectError([&] { baselines::planeProbabilities(c.input, planes, {}, 7, w); },
+                    {"does not divide", "192 x 144"});
+}
+
 TEST(PlaneSweepStereo, OptionsAndInputsAreNamed) {
   using test::expectError;
   const StereoCase c = makeCase();
