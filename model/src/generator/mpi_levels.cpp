@@ -3,6 +3,8 @@
 // discrepancy) and the level-1 corrected MPI.
 #include "generator/internal.h"
 
+#include "simpli/model/baselines/plane_sweep_stereo.h"
+
 #include "simpli/model/geometry/mpi_render.h"
 #include "simpli/model/geometry/plane_sweep.h"
 #include "simpli/model/network/surface_ops.h"
@@ -28,6 +30,20 @@ Tensor resizeTo(const Tensor& x, int height, int width) {
   if (x.size(2) == height && x.size(3) == width)
     return x;
   return ocl::resizeBicubic(x, height, width);
+}
+
+/// NetworkConfig::lvl0PhotoPrior: the plane-sweep stereo distribution over the network's planes
+/// on the level-0 grid, [1, 1, P, h0, w0] in the network's dtype. A function of the input images
+/// only (no gradient flows into it).
+Tensor photoPrior(const Context& ctx) {
+  const std::vector<std::vector<double>> prob = baselines::planeProbabilities(
+      ctx.input, ctx.planeDepths, {}, static_cast<int>(ctx.h0), static_cast<int>(ctx.w0));
+  std::vector<double> values;
+  values.reserve(prob.size() * prob[0].size());
+  for (const std::vector<double>& plane : prob)
+    values.insert(values.end(), plane.begin(), plane.end());
+  return Tensor::fromHost(values, {1, 1, static_cast<int64_t>(prob.size()), ctx.h0, ctx.w0},
+                          ctx.net.parameters().dtype());
 }
 
 } // namespace
@@ -59,7 +75,10 @@ MpiLevels runMpiLevels(const Context& ctx) {
         ocl::reshape(ocl::transpose(network::planeState(P, Cst, net.parameters().dtype()), 0, 1),
                      {1, Cst, P, 1, 1}),
         {1, Cst, P, h0, w0});
-    const Tensor x = ocl::concat({state, stats}, 1); // [1, Cst + 2Cf, P, h0, w0]
+    std::vector<Tensor> inputs{state, stats};
+    if (cfg.lvl0PhotoPrior)
+      inputs.push_back(photoPrior(ctx));
+    const Tensor x = ocl::concat(inputs, 1); // [1, Cst + 2Cf (+ 1), P, h0, w0]
     ctx.hook("sampi_block_lvl0.post_aggregate_block.in0", x);
     const Tensor volume = net.sampiLvl0.postAggregate.forward(x);
     const Tensor raw = ocl::permute(volume, {0, 2, 1, 3, 4}); // [1, P, C0, h0, w0]

@@ -159,6 +159,8 @@ NetworkConfig parseNetworkConfig(const std::string& jsonText, const std::string&
   c.mpiOnly = r.boolean("mpi_only");
   c.lvl0TanhPlanes = r.integer("lvl0_tanh_planes", 0, 4096);
   c.mliErrorWithImage = r.boolean("mli_error_with_image");
+  if (r.has("lvl0_photo_prior"))
+    c.lvl0PhotoPrior = r.boolean("lvl0_photo_prior");
   {
     io::JsonObjectReader fe = r.object("features_extractor");
     c.featuresExtractor.widths = fe.integers("widths", 4, 4);
@@ -210,7 +212,7 @@ std::string toJson(const NetworkConfig& c) {
     samli.push_back({{"blocks", blocksJson(b.blocks)},
                      {"out_channels", b.outChannels},
                      {"attention_hidden", b.attentionHidden}});
-  const json root = {
+  json root = {
       {"name", c.name},
       {"num_layers", c.numLayers},
       {"num_planes", c.numPlanes},
@@ -238,6 +240,8 @@ std::string toJson(const NetworkConfig& c) {
       {"depth_decoder_lvl1", decoderJson(c.depthDecoder)},
       {"rgba_decoder", decoderJson(c.rgbaDecoder)},
       {"samli_blocks", samli}};
+  if (c.lvl0PhotoPrior) // written only when on: configs without it keep their exact text
+    root["lvl0_photo_prior"] = true;
   return root.dump(2);
 }
 
@@ -281,6 +285,7 @@ bool operator==(const NetworkConfig& a, const NetworkConfig& b) {
          a.scaleFeatExtractor == b.scaleFeatExtractor && a.scaleLvl0 == b.scaleLvl0 &&
          a.scaleLvl1 == b.scaleLvl1 && a.scaleLvl2 == b.scaleLvl2 && a.mpiOnly == b.mpiOnly &&
          a.lvl0TanhPlanes == b.lvl0TanhPlanes && a.mliErrorWithImage == b.mliErrorWithImage &&
+         a.lvl0PhotoPrior == b.lvl0PhotoPrior &&
          a.featuresExtractor.inChannels == b.featuresExtractor.inChannels &&
          a.featuresExtractor.widths == b.featuresExtractor.widths &&
          a.featuresExtractor.headWidth == b.featuresExtractor.headWidth &&

@@ -13,11 +13,14 @@ std::vector<BlockDims> postAggregateDims(const TBlockConfig& config) {
 }
 
 TBlock::TBlock(ParameterStore& store, const std::string& prefix, int spatialDims,
-               int stateChannels_, int sourceChannels_, const TBlockConfig& config)
-    : stateChannels(stateChannels_), sourceChannels(sourceChannels_) {
+               int stateChannels_, int sourceChannels_, const TBlockConfig& config,
+               int extraChannels_)
+    : stateChannels(stateChannels_), sourceChannels(sourceChannels_),
+      extraChannels(extraChannels_) {
   const bool withAttention = config.attentionHidden > 0;
-  // [state | mean | var] or [state | mean | var | attended mean | attended var] (§4.7 step 8).
-  inChannels = stateChannels + (withAttention ? 4 : 2) * sourceChannels;
+  // [state | mean | var] or [state | mean | var | attended mean | attended var] (§4.7 step 8),
+  // then any extra inputs.
+  inChannels = stateChannels + (withAttention ? 4 : 2) * sourceChannels + extraChannels;
   postAggregate = DoubleConvResnet(store, prefix + ".post_aggregate_block", spatialDims, inChannels,
                                    postAggregateDims(config));
   if (withAttention)
@@ -33,7 +36,7 @@ SimpliNetwork::SimpliNetwork(const NetworkConfig& config, ocl::Dtype dtype, uint
   const int surface = config_.surfaceChannels();
 
   sampiLvl0 = TBlock(s, "sampi_block_lvl0", 3, config_.sampiLvl0.stateChannels, features,
-                     config_.sampiLvl0);
+                     config_.sampiLvl0, config_.lvl0PhotoPrior ? 1 : 0);
   alphaDecoderLvl0 =
       ConvMLP(s, "alpha_decoder_lvl0", config_.sampiLvl0.outChannels, config_.alphaDecoder, 1);
   // Level-1 state: fMPI0 = level-0 features + alpha; sources: the 12-channel discrepancy.

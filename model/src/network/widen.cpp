@@ -293,6 +293,40 @@ NetworkConfig widenedConfig(const NetworkConfig& config, int factor) {
   return c;
 }
 
+LoadReport loadWithoutLvl0Prior(SimpliNetwork& net, const std::string& path) {
+  NetworkConfig plain = net.config();
+  if (!plain.lvl0PhotoPrior)
+    fail("loadWithoutLvl0Prior: config '", plain.name, "' has no lvl0_photo_prior");
+  plain.lvl0PhotoPrior = false;
+  SimpliNetwork from(plain, net.parameters().dtype());
+  const LoadReport report = from.parameters().load(path);
+  for (const std::string& name : net.parameters().names()) {
+    const ocl::Tensor& old = from.parameters().get(name);
+    ocl::Tensor to = net.parameters().get(name);
+    if (old.shape() == to.shape()) {
+      to.copyFromHost(old.toVector());
+      continue;
+    }
+    // A convolution reading the level-0 input: [out, in (+1), k...]; the prior is the last input.
+    const ocl::Shape& a = old.shape();
+    const ocl::Shape& b = to.shape();
+    const bool oneMoreInput = a.size() == b.size() && a.size() >= 2 && b[1] == a[1] + 1 &&
+                              a[0] == b[0] && std::equal(a.begin() + 2, a.end(), b.begin() + 2);
+    if (!oneMoreInput || name.rfind("sampi_block_lvl0.", 0) != 0)
+      fail("loadWithoutLvl0Prior: parameter \"", name, "\" is ", ocl::toString(a),
+           " without the prior and ", ocl::toString(b), " with it");
+    const std::vector<double> v = old.toVector();
+    const size_t kernel = size_t(old.numel() / (a[0] * a[1]));
+    std::vector<double> padded(size_t(to.numel()), 0.0);
+    for (int64_t o = 0; o < a[0]; ++o)
+      for (int64_t i = 0; i < a[1]; ++i)
+        std::copy_n(v.begin() + long((size_t(o * a[1] + i)) * kernel), kernel,
+                    padded.begin() + long((size_t(o * b[1] + i)) * kernel));
+    to.copyFromHost(padded);
+  }
+  return report;
+}
+
 std::unique_ptr<SimpliNetwork> widenNetwork(const SimpliNetwork& from,
                                             const WidenOptions& options) {
   checkWidenOptions(options);

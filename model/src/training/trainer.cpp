@@ -1,5 +1,7 @@
 // The training loop (trainer.h).
 #include "simpli/model/training/trainer.h"
+#include "simpli/model/network/loader.h"
+#include "simpli/model/network/widen.h"
 
 #include "simpli/error.h"
 #include "simpli/model/io/files.h"
@@ -15,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 namespace simpli::training {
 namespace {
@@ -174,12 +177,20 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
       fail("--init-weights '", options_.initWeights,
            "': a resumed run continues from its own checkpoint; warm-start a new run instead");
     if (root) { // the other ranks receive rank 0's weights
-      const network::LoadReport r = network_->parameters().load(options_.initWeights);
+      // Weights of the same network without the level-0 photo prior (their metadata says so):
+      // the prior's input channel starts at zero weight.
+      const std::optional<network::NetworkConfig> stored =
+          config_.network.lvl0PhotoPrior ? network::configFromWeights(options_.initWeights)
+                                         : std::nullopt;
+      const bool addPrior = stored && !stored->lvl0PhotoPrior;
+      const network::LoadReport r =
+          addPrior ? network::loadWithoutLvl0Prior(*network_, options_.initWeights)
+                   : network_->parameters().load(options_.initWeights);
       say("initial weights: " + options_.initWeights + " (" + std::to_string(r.loaded) +
           " tensors" +
           (r.unexpected.empty() ? std::string()
                                 : ", " + std::to_string(r.unexpected.size()) + " unused") +
-          ")");
+          (addPrior ? "; the level-0 photo prior's input starts at zero weight" : "") + ")");
     }
   }
   generator_ = std::make_unique<generator::Generator>(*network_);

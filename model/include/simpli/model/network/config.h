@@ -13,6 +13,8 @@
 //   "mpi_only": false,                  // DeepView-dagger baseline: no planes -> layers step
 //   "lvl0_tanh_planes": 3,              // the reference's tanh quirk (§3 step 8); 0 = off
 //   "mli_error_with_image": true,       // MLI aggregators see [error | image] (6 ch) or error
+//   "lvl0_photo_prior": false,          // optional, not in the reference: level 0 also sees
+//                                       // the plane-sweep stereo distribution (below)
 //   "features_extractor": {"widths": [64, 64, 128, 128], "head_width": 256, "descriptors": 9},
 //   "sampi_block_lvl0": {"state_channels": 12, "blocks": [[32, 32], ...], "out_channels": 12},
 //   "alpha_decoder_lvl0": {"hidden": [12, 12], "activation": "elu"},
@@ -73,6 +75,14 @@ struct NetworkConfig {
   bool mpiOnly = false;
   int lvl0TanhPlanes = 3;
   bool mliErrorWithImage = true;
+  /// Not in the reference: the level-0 block also reads, per plane and cell, the softmin
+  /// distribution of classical plane-sweep stereo over the planes (baselines/plane_sweep_stereo.h:
+  /// windowed RGB variance of the full-size sources, area-averaged to the level-0 grid), as one
+  /// more input channel after [state | mean | var]. The tiny networks match flower no better than
+  /// that fixed matcher does (README); with the prior they start from its geometry. Weights of the
+  /// same config without it load into it with a zero weight on the channel
+  /// (loadWithoutLvl0Prior), so the function starts unchanged.
+  bool lvl0PhotoPrior = false;
   FeatureExtractorConfig featuresExtractor;
   TBlockConfig sampiLvl0, sampiLvl1;
   DecoderConfig alphaDecoder, depthDecoder, rgbaDecoder;

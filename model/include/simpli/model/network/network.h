@@ -27,11 +27,13 @@ struct TBlock {
   std::optional<ViewAttention> attention;
   int stateChannels = 0;  ///< channels of the surfaces' state
   int sourceChannels = 0; ///< per-view channels that are aggregated
+  int extraChannels = 0;  ///< inputs after the aggregates (the level-0 photo prior: 1)
   int inChannels = 0;     ///< post-aggregation input: state + 2 (or 4 with attention) x source
+                          ///< + extra
 
   TBlock() = default;
   TBlock(ParameterStore& store, const std::string& prefix, int spatialDims, int stateChannels,
-         int sourceChannels, const TBlockConfig& config);
+         int sourceChannels, const TBlockConfig& config, int extraChannels = 0);
 };
 
 class SimpliNetwork {

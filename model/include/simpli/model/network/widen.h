@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 
 namespace simpli::network {
 
@@ -40,5 +41,12 @@ NetworkConfig widenedConfig(const NetworkConfig& config, int factor);
 /// residual 1x1 convolution would become an identity (a block whose fixed input width equals its
 /// widened output: the widening cannot keep that block's function).
 std::unique_ptr<SimpliNetwork> widenNetwork(const SimpliNetwork& from, const WidenOptions& options);
+
+/// Loads into `net` (config with lvl0_photo_prior) the weights of the same config without it:
+/// every parameter as stored, and the level-0 block's convolutions that read its input get a
+/// zero weight on the prior channel, so the network computes what the file's network does.
+/// Throws simpli::Error when net's config has no prior, or for what ParameterStore::load
+/// rejects in the file (naming it).
+LoadReport loadWithoutLvl0Prior(SimpliNetwork& net, const std::string& path);
 
 } // namespace simpli::network
