@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 
 namespace simpli::test {
@@ -93,6 +94,15 @@ bool allFinite(const ocl::Tensor& t) {
     if (!std::isfinite(v))
       return false;
   return true;
+}
+
+double maxAbsDiff(const ocl::Tensor& a, const ocl::Tensor& b) {
+  EXPECT_EQ(a.shape(), b.shape());
+  const std::vector<double> x = a.toVector(), y = b.toVector();
+  double d = 0;
+  for (size_t i = 0; i < std::min(x.size(), y.size()); ++i)
+    d = std::max(d, std::abs(x[i] - y[i]));
+  return d;
 }
 
 } // namespace simpli::test

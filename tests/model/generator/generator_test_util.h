@@ -31,4 +31,7 @@ std::unique_ptr<network::SimpliNetwork> configNetwork(const std::string& name, o
 /// Every element finite.
 bool allFinite(const ocl::Tensor& t);
 
+/// Largest |a - b| over the elements (a gtest failure when the shapes differ).
+double maxAbsDiff(const ocl::Tensor& a, const ocl::Tensor& b);
+
 } // namespace simpli::test

@@ -21,14 +21,7 @@ namespace {
 
 using ocl::Dtype;
 
-double maxAbsDiff(const ocl::Tensor& a, const ocl::Tensor& b) {
-  EXPECT_EQ(a.shape(), b.shape());
-  const std::vector<double> x = a.toVector(), y = b.toVector();
-  double d = 0;
-  for (size_t i = 0; i < x.size(); ++i)
-    d = std::max(d, std::abs(x[i] - y[i]));
-  return d;
-}
+using test::maxAbsDiff;
 
 TEST(Lvl0Prior, ConfigKeyAndOneMoreInputChannel) {
   const network::NetworkConfig plain = network::resolveNetworkConfig("tiny");

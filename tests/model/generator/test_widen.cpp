@@ -18,14 +18,7 @@ namespace {
 using ocl::Dtype;
 using test::expectError;
 
-double maxAbsDiff(const ocl::Tensor& a, const ocl::Tensor& b) {
-  EXPECT_EQ(a.shape(), b.shape());
-  const std::vector<double> x = a.toVector(), y = b.toVector();
-  double d = 0;
-  for (size_t i = 0; i < x.size(); ++i)
-    d = std::max(d, std::abs(x[i] - y[i]));
-  return d;
-}
+using test::maxAbsDiff;
 
 double spread(const ocl::Tensor& t) {
   const std::vector<double> v = t.toVector();
