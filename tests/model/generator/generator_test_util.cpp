@@ -5,6 +5,7 @@
 #include "simpli/model/scene/reference_camera.h"
 
 #include <Eigen/Geometry>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
