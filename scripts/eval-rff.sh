@@ -5,8 +5,9 @@
 # networks scored on the same samples, with comparison pictures.
 #   bash scripts/eval-rff.sh SCENE OUT [WEIGHTS[,WEIGHTS2,...] [EVAL OPTIONS...]]
 # SCENE: an LLFF scene folder (e.g. ../shared/realdata/flower); OUT: a folder for the logs,
-# views.csv and pictures (OUT/views_V/); WEIGHTS default to the shipped network; further
-# arguments go to every `simpli eval` (e.g. --input-scale 0.5).
+# views.csv and pictures (OUT/views_V/); WEIGHTS default to the shipped network and the
+# plane-sweep stereo yardstick (baseline:plane-sweep, no network); further arguments go to every
+# `simpli eval` (e.g. --input-scale 0.5).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 if (($# < 2)); then
@@ -14,7 +15,7 @@ if (($# < 2)); then
   exit 2
 fi
 scene=$1 out=$2
-weights=${3:-$root/model/weights/default.safetensors}
+weights=${3:-$root/model/weights/default.safetensors,baseline:plane-sweep}
 extra=("${@:4}")
 simpli=${SIMPLI:-$root/build/bin/simpli}
 mkdir -p "$out"
