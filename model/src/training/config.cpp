@@ -180,6 +180,10 @@ void TrainingConfig::validate(const std::string& source) const {
         s.sourceChannelStd <= 0.5))
     fail(source, ": field \"sampling.source_gain_std\" = [", s.sourceExposureStd, ", ",
          s.sourceChannelStd, "]: need both in [0, 0.5] (log-gain standard deviations)");
+  if (!(s.sharpenProbability >= 0 && s.sharpenProbability <= 1 && s.sharpenMax >= 0 &&
+        s.sharpenMax <= 10))
+    fail(source, ": field \"sampling.sharpen\" = [", s.sharpenProbability, ", ", s.sharpenMax,
+         "]: need a probability in [0, 1] and a largest amount in [0, 10]");
   const SyntheticConfig& y = synthetic;
   if (!(y.photoProbability >= 0 && y.photoProbability <= 1))
     bad("synthetic.photo_probability", y.photoProbability, "must be in [0, 1]");
@@ -268,6 +272,7 @@ TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::strin
     f.readPair("mixup_lambda", sc.mixupLambdaMin, sc.mixupLambdaMax);
     f.readNumber("reference_margin", sc.referenceMargin);
     f.readPair("source_gain_std", sc.sourceExposureStd, sc.sourceChannelStd);
+    f.readPair("sharpen", sc.sharpenProbability, sc.sharpenMax);
     f.finish();
   }
   if (const json* s = top.find("synthetic"))
@@ -314,7 +319,8 @@ std::string toJson(const TrainingConfig& c) {
                       {"mixup_probability", s.mixupProbability},
                       {"mixup_lambda", {s.mixupLambdaMin, s.mixupLambdaMax}},
                       {"reference_margin", s.referenceMargin},
-                      {"source_gain_std", {s.sourceExposureStd, s.sourceChannelStd}}};
+                      {"source_gain_std", {s.sourceExposureStd, s.sourceChannelStd}},
+                      {"sharpen", {s.sharpenProbability, s.sharpenMax}}};
   const SyntheticConfig& y = c.synthetic;
   root["synthetic"] = {{"style", synthetic::toString(y.style)},
                        {"textures", synthetic::toString(y.textures)},

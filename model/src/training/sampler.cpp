@@ -40,6 +40,42 @@ void jitterSourceGains(TrainingSample& s, const SamplingConfig& config,
   }
 }
 
+/// x + amount (x - G(x)) per channel, G a Gaussian of sigma 1 pixel (taps -2 .. 2, borders
+/// clamped), clipped to [-1, 1].
+void unsharpMask(io::Image& image, double amount) {
+  static const double kTaps[5] = {0.05448868, 0.24420134, 0.40261995, 0.24420134, 0.05448868};
+  const int W = image.width, H = image.height;
+  std::vector<double> rows(size_t(W) * H), blurred(size_t(W) * H);
+  for (int c = 0; c < 3; ++c) {
+    float* x = image.plane(c);
+    for (int y = 0; y < H; ++y)
+      for (int i = 0; i < W; ++i) {
+        double sum = 0;
+        for (int k = -2; k <= 2; ++k)
+          sum += kTaps[k + 2] * x[size_t(y) * W + size_t(std::clamp(i + k, 0, W - 1))];
+        rows[size_t(y) * W + i] = sum;
+      }
+    for (int y = 0; y < H; ++y)
+      for (int i = 0; i < W; ++i) {
+        double sum = 0;
+        for (int k = -2; k <= 2; ++k)
+          sum += kTaps[k + 2] * rows[size_t(std::clamp(y + k, 0, H - 1)) * W + i];
+        blurred[size_t(y) * W + i] = sum;
+      }
+    for (size_t i = 0; i < size_t(W) * H; ++i)
+      x[i] = float(std::clamp(x[i] + amount * (x[i] - blurred[i]), -1.0, 1.0));
+  }
+}
+
+/// SamplingConfig::sharpenProbability: one amount for every view of the sample, drawn from the
+/// sampler's state after the frame and crop draws (read, not advanced).
+double drawSharpenAmount(const SamplingConfig& config, const TrainRandom::State& state) {
+  TrainRandom random(state[2] ^ (state[3] * 0xBF58476D1CE4E5B9ULL) ^ 0x5348415250ULL);
+  if (!random.chance(config.sharpenProbability))
+    return 0.0;
+  return random.uniform(0.0, config.sharpenMax);
+}
+
 } // namespace
 
 FrameDraw drawFrames(int frames, const SamplingConfig& c, TrainRandom& random) {
@@ -203,6 +239,15 @@ TrainingSample Sampler::drawWithFrames(const scene::Scene& scene, uint64_t scene
     take(f, s.cleanSources, s.sourceCameras);
   for (int f : s.targetFrames)
     take(f, s.targets, s.targetCameras);
+  if (config_.sharpenProbability > 0 && config_.sharpenMax > 0) {
+    s.sharpen = drawSharpenAmount(config_, random_.state());
+    if (s.sharpen > 0) {
+      for (io::Image& image : s.cleanSources)
+        unsharpMask(image, s.sharpen);
+      for (io::Image& image : s.targets)
+        unsharpMask(image, s.sharpen);
+    }
+  }
   if (depths) {
     if (depths->size() != scene.size())
       fail("sampler: scene ", scene.root, " has ", scene.size(), " views but ", depths->size(),

@@ -50,7 +50,7 @@ TEST(TrainConfig, RoundTripAndNetworkFile) {
           "optimizer": {"lr": 1e-3, "warmup_steps": 25}, "loss_weights": {"perceptual": 10},
           "sampling": {"crop": [32, 48], "mixup_lambda": [0.1, 0.2], "window": 6,
                        "zoom": [1.0, 1.3], "reference_margin": 0.06,
-                       "source_gain_std": [0.04, 0.015]}})",
+                       "source_gain_std": [0.04, 0.015], "sharpen": [0.5, 1.5]}})",
       "t.json", SIMPLI_NETWORK_CONFIG_DIR);
   EXPECT_EQ(c.network.name, "tiny");
   EXPECT_EQ(c.dtype, ocl::Dtype::F64);
@@ -59,6 +59,8 @@ TEST(TrainConfig, RoundTripAndNetworkFile) {
   EXPECT_DOUBLE_EQ(c.sampling.referenceMargin, 0.06);
   EXPECT_DOUBLE_EQ(c.sampling.sourceExposureStd, 0.04);
   EXPECT_DOUBLE_EQ(c.sampling.sourceChannelStd, 0.015);
+  EXPECT_DOUBLE_EQ(c.sampling.sharpenProbability, 0.5);
+  EXPECT_DOUBLE_EQ(c.sampling.sharpenMax, 1.5);
   EXPECT_EQ(c.optimizer.warmupSteps, 25);
   const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
   EXPECT_EQ(toJson(back), toJson(c));
@@ -127,6 +129,15 @@ TEST(TrainConfig, BadInputNamesFieldAndValue) {
               "a.json", "");
         },
         {"a.json", "sampling.reference_margin"});
+  for (const char* sharpen : {"[1.5, 1]", "[0.5, -1]", "[0.5, 20]", "1"})
+    expectError(
+        [&] {
+          parseTrainingConfig(
+              std::string(R"({"network": "official-4l", "sampling": {"sharpen": )") + sharpen +
+                  "}}",
+              "a.json", "");
+        },
+        {"a.json", "sharpen"});
   for (const char* gains : {"[-0.01, 0]", "[0.1, 0.6]", "0.05", "[0.1]"})
     expectError(
         [&] {

@@ -260,6 +260,52 @@ TEST(TrainSampler, SourceGainJitterKeepsTheSamplesAndHasItsSpread) {
   EXPECT_EQ(x.sources[0].data, y.sources[0].data);
 }
 
+// Sharpening: the same samples as without it; every view, sources and targets alike, is the
+// unsharp mask x + a (x - G x) of the plain view with one amount a per sample (checked at an
+// interior pixel against a direct 5 x 5 Gaussian of sigma 1); amounts spread over [0, max].
+TEST(TrainSampler, SharpenAppliesOneUnsharpMaskToEveryView) {
+  SamplingConfig c;
+  c.mixupProbability = 0;
+  SamplingConfig sh = c;
+  sh.sharpenProbability = 1.0;
+  sh.sharpenMax = 2.0;
+  scene::Scene scene = fakeScene(9, 24, 16);
+  for (scene::SceneView& v : scene.views) // texture: a pattern with edges, not a ramp
+    for (size_t k = 0; k < v.image.data.size(); ++k)
+      v.image.data[k] = float(0.6 * std::sin(0.9 * double(k)) * std::cos(0.37 * double(k / 24)));
+  Sampler plain(c, 5), sharp(sh, 5);
+  double lo = 1e9, hi = 0;
+  for (int it = 0; it < 40; ++it) {
+    const TrainingSample a = plain.drawFromScene(scene, 0), b = sharp.drawFromScene(scene, 0);
+    ASSERT_EQ(a.sourceFrames, b.sourceFrames);
+    ASSERT_EQ(a.targetFrames, b.targetFrames);
+    EXPECT_EQ(a.sharpen, 0.0);
+    ASSERT_GT(b.sharpen, 0.0);
+    ASSERT_LE(b.sharpen, 2.0);
+    lo = std::min(lo, b.sharpen);
+    hi = std::max(hi, b.sharpen);
+    std::vector<std::pair<const io::Image*, const io::Image*>> views;
+    for (size_t v = 0; v < a.cleanSources.size(); ++v)
+      views.push_back({&a.cleanSources[v], &b.cleanSources[v]});
+    for (size_t v = 0; v < a.targets.size(); ++v)
+      views.push_back({&a.targets[v], &b.targets[v]});
+    EXPECT_EQ(b.sources[0].data, b.cleanSources[0].data); // no MixUp: the network sees it too
+    for (const auto& [x, y] : views) {
+      const int c0 = 1, py = 7, px = 11;
+      double blurred = 0;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx)
+          blurred += std::exp(-0.5 * (dx * dx + dy * dy)) * x->at(c0, py + dy, px + dx);
+      blurred /= std::pow(2.48373, 2); // sum of exp(-k^2 / 2), k = -2 .. 2, squared
+      const double expect =
+          std::clamp(x->at(c0, py, px) + b.sharpen * (x->at(c0, py, px) - blurred), -1.0, 1.0);
+      EXPECT_NEAR(y->at(c0, py, px), expect, 2e-5);
+    }
+  }
+  EXPECT_LT(lo, 0.5);
+  EXPECT_GT(hi, 1.5);
+}
+
 // A zoom is a resize and a centre crop: the zoomed camera must see, at each pixel, the point of
 // the original image its ray goes through. Ramp images (channel 0 = relative x, channel 1 =
 // relative y of the pixel centre) make that exact: bilinear interpolation reproduces a ramp.

@@ -29,7 +29,8 @@
 //                "zoom": [1.0],             // zoom factors >= 1, one drawn per sample
 //                "mixup_probability": 0.9, "mixup_lambda": [0.0, 0.4],
 //                "reference_margin": 0,   // not in the reference: widenedCamera
-//                "source_gain_std": [0, 0]},  // not in the reference: [exposure, channel]
+//                "source_gain_std": [0, 0],   // not in the reference: [exposure, channel]
+//                "sharpen": [0, 0]},          // not in the reference: [probability, max amount]
 //   "synthetic": {"style": "objects" | "world",   // the scenes of data synthetic[:SEED]
 //                 "textures": "procedural" | "photo", "photo_probability": 0.85,
 //                 "photo_dir": "",                  // "" = the Debian photo packages
@@ -89,6 +90,15 @@ struct SamplingConfig {
   /// alone may rely on exact colour agreement. The draws are a function of the sample (they do
   /// not advance the sampler's stream): the same seed draws the same samples with or without it.
   double sourceExposureStd = 0.0, sourceChannelStd = 0.0;
+  /// Sharpening of every image of a sample (not in the reference; 0 = none): with probability
+  /// sharpenProbability, all views (sources and targets alike) get the same unsharp mask
+  /// x + a (x - G(x)), G a Gaussian of sigma 1 pixel, a uniform in [0, sharpenMax], clipped to
+  /// [-1, 1]. Flower's frames at 256x192 carry ~4x the high-frequency energy (mean |Laplacian|
+  /// 0.11) of the world scenes (0.026 .. 0.033), whose photo textures are smooth; sharpening the
+  /// held-out synthetic views costs the shipped network 0.9 dB of its lead over plane-sweep
+  /// stereo, gains and noise cost it ~0.1 (docs/training.md, session 17). Drawn like the gains,
+  /// from the sampler's state without advancing it.
+  double sharpenProbability = 0.0, sharpenMax = 0.0;
 };
 
 /// The procedural scenes of `simpli train synthetic[:SEED]` (synthetic/scene.h; ignored for

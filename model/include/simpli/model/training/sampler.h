@@ -40,6 +40,8 @@ struct TrainingSample {
   /// Per source: the RGB gains of the photometric jitter (SamplingConfig::sourceExposureStd;
   /// empty when off).
   std::vector<std::array<double, 3>> sourceGains;
+  /// Unsharp-mask amount applied to every view (SamplingConfig::sharpenProbability; 0 = none).
+  double sharpen = 0.0;
   /// Per target, when the data knows it (synthetic scenes): height x width camera z in
   /// normalised units, 0 = no surface, after the same zoom and crop as the target image
   /// (nearest texel); empty otherwise.
