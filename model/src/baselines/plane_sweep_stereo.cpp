@@ -96,6 +96,19 @@ SweepStatistics sweepStatistics(const generator::GeneratorInput& in,
   return s;
 }
 
+/// The softmin distribution over the planes of pixel i's windowed cost into `weights` (P
+/// values summing to 1), shifted by the smallest cost so that exp never underflows to all 0.
+void softmin(const SweepStatistics& s, size_t i, double temperature, std::vector<double>& weights) {
+  double best = std::numeric_limits<double>::infinity(), total = 0;
+  for (const std::vector<double>& c : s.cost)
+    best = std::min(best, c[i]);
+  weights.resize(s.cost.size());
+  for (size_t p = 0; p < s.cost.size(); ++p)
+    total += weights[p] = std::exp(-(s.cost[p][i] - best) / temperature);
+  for (double& w : weights)
+    w /= total;
+}
+
 } // namespace
 
 std::vector<std::vector<double>> planeProbabilities(const generator::GeneratorInput& in,
@@ -112,17 +125,13 @@ std::vector<std::vector<double>> planeProbabilities(const generator::GeneratorIn
   const size_t HW = size_t(H) * W, P = depths.size();
   const int fy = H / height, fx = W / width;
   std::vector<std::vector<double>> out(P, std::vector<double>(size_t(height) * width, 0.0));
+  std::vector<double> w;
   for (size_t i = 0; i < HW; ++i) {
-    double best = std::numeric_limits<double>::infinity(), total = 0;
-    for (size_t p = 0; p < P; ++p)
-      best = std::min(best, s.cost[p][i]);
-    std::vector<double> w(P);
-    for (size_t p = 0; p < P; ++p)
-      total += w[p] = std::exp(-(s.cost[p][i] - best) / o.temperature);
+    softmin(s, i, o.temperature, w);
     const size_t y = i / size_t(W), x = i % size_t(W);
     const size_t j = (y / size_t(fy)) * size_t(width) + x / size_t(fx);
     for (size_t p = 0; p < P; ++p)
-      out[p][j] += w[p] / total / (double(fy) * fx);
+      out[p][j] += w[p] / (double(fy) * fx);
   }
   return out;
 }
@@ -162,18 +171,12 @@ generator::GeneratorOutput planeSweepStereo(const generator::GeneratorInput& in,
   const SweepStatistics s = sweepStatistics(in, depths, o);
 
   std::vector<float> rgba(4 * HW), depth(HW);
-  std::vector<double> weight(depths.size());
+  std::vector<double> weight;
   for (size_t i = 0; i < HW; ++i) {
-    double best = std::numeric_limits<double>::infinity();
-    for (const std::vector<double>& c : s.cost)
-      best = std::min(best, c[i]);
-    double total = 0, disparity = 0;
-    for (size_t p = 0; p < depths.size(); ++p) {
-      weight[p] = std::exp(-(s.cost[p][i] - best) / o.temperature);
-      total += weight[p];
+    softmin(s, i, o.temperature, weight);
+    double disparity = 0;
+    for (size_t p = 0; p < depths.size(); ++p)
       disparity += weight[p] / depths[p];
-    }
-    disparity /= total;
     size_t nearest = 0;
     for (size_t p = 1; p < depths.size(); ++p)
       if (std::abs(1.0 / depths[p] - disparity) < std::abs(1.0 / depths[nearest] - disparity))
