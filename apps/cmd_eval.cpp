@@ -174,7 +174,7 @@ void runEval(EvalCliOptions o) {
     }
     network::NetworkConfig config;
     if (!o.config.empty()) {
-      config = training::loadNetworkOrTrainingConfig(o.config);
+      config = training::resolveNetworkOrTrainingConfig(o.config);
     } else {
       const std::optional<network::NetworkConfig> fromWeights = network::configFromWeights(weights);
       if (!fromWeights)
@@ -305,7 +305,8 @@ void addEvalCommand(CLI::App& app) {
       ->required()
       ->delimiter(',');
   cmd->add_option("--config", opts->config,
-                  "Network config or training config JSON (default: the weights' "
+                  "Network or training config: a name (official-4l, tiny-prior, a recipe in "
+                  "model/configs/training) or a JSON file (default: the weights' "
                   "\"network_config\" metadata, which `simpli train` writes)");
   cmd->add_option("--protocol", opts->protocol,
                   "rff: the paper's Real Forward-Facing protocol (512x384, 5 sources and 8 novel "

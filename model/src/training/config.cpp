@@ -350,15 +350,6 @@ std::string firstIncompatibleField(const TrainingConfig& a, const TrainingConfig
   return "";
 }
 
-network::NetworkConfig loadNetworkOrTrainingConfig(const std::string& path) {
-  const std::vector<unsigned char> bytes = io::readFileBytes(path, "config");
-  const std::string text(bytes.begin(), bytes.end());
-  const json root = io::parseJson(text, path);
-  if (root.is_object() && root.contains("network"))
-    return parseTrainingConfig(text, path, fs::path(path).parent_path().string()).network;
-  return network::parseNetworkConfig(text, path);
-}
-
 namespace {
 
 bool looksLikePath(const std::string& s) {
@@ -394,6 +385,10 @@ TrainingConfig resolveTrainingConfig(const std::string& config) {
            asTraining.what());
     }
   }
+}
+
+network::NetworkConfig resolveNetworkOrTrainingConfig(const std::string& nameOrPath) {
+  return resolveTrainingConfig(nameOrPath).network;
 }
 
 } // namespace simpli::training

@@ -163,9 +163,10 @@ std::string toJson(const TrainingConfig& config);
 /// and checkpoint_every); returns the first differing field's name, or "" when they agree.
 std::string firstIncompatibleField(const TrainingConfig& a, const TrainingConfig& b);
 
-/// A network config for commands that take either kind of file (`simpli eval --config`): a
-/// training config (its "network") or a network config.
-network::NetworkConfig loadNetworkOrTrainingConfig(const std::string& path);
+/// The network of a config named as resolveTrainingConfig() takes it (`simpli eval --config`): a
+/// shipped name (official-4l, tiny-prior, a training recipe) or a path to a training config (its
+/// "network") or to a network config.
+network::NetworkConfig resolveNetworkOrTrainingConfig(const std::string& nameOrPath);
 
 /// The training config a user names (`simpli train --config`, vtkSIMPLITrain's Config): a name
 /// is the shipped <networkConfigDir()>/training/<name>.json if it exists, else the network
