@@ -3,80 +3,13 @@
 
 #include "simpli/error.h"
 #include "simpli/model/scene/reference_camera.h"
+#include "simpli/model/training/augment.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
 namespace simpli::training {
-
-namespace {
-
-/// Standard normal from two uniforms (Box-Muller), spelled out like the sampler's other
-/// distributions so that runs agree across platforms.
-double standardNormal(TrainRandom& random) {
-  const double u1 = 1.0 - random.uniform(), u2 = random.uniform(); // u1 in (0, 1]
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-}
-
-/// SamplingConfig::sourceExposureStd: the gains come from a stream seeded by the sampler's state
-/// after this sample's draws (read, not advanced), so the sample sequence is the same with or
-/// without the jitter and a resumed run draws the same gains.
-void jitterSourceGains(TrainingSample& s, const SamplingConfig& config,
-                       const TrainRandom::State& state) {
-  TrainRandom random(state[0] ^ (state[1] * 0x9E3779B97F4A7C15ULL) ^ 0x50484f544fULL);
-  for (io::Image& image : s.sources) {
-    const double exposure = config.sourceExposureStd * standardNormal(random);
-    std::array<double, 3> gains{};
-    for (double& g : gains)
-      g = std::exp(exposure + config.sourceChannelStd * standardNormal(random));
-    const size_t plane = image.data.size() / 3;
-    for (size_t c = 0; c < 3; ++c)
-      for (size_t i = c * plane; i < (c + 1) * plane; ++i) {
-        const double x = std::clamp(0.5 * (double(image.data[i]) + 1.0) * gains[c], 0.0, 1.0);
-        image.data[i] = float(2.0 * x - 1.0);
-      }
-    s.sourceGains.push_back(gains);
-  }
-}
-
-/// x + amount (x - G(x)) per channel, G a Gaussian of sigma 1 pixel (taps -2 .. 2, borders
-/// clamped), clipped to [-1, 1].
-void unsharpMask(io::Image& image, double amount) {
-  static const double kTaps[5] = {0.05448868, 0.24420134, 0.40261995, 0.24420134, 0.05448868};
-  const int W = image.width, H = image.height;
-  std::vector<double> rows(size_t(W) * H), blurred(size_t(W) * H);
-  for (int c = 0; c < 3; ++c) {
-    float* x = image.plane(c);
-    for (int y = 0; y < H; ++y)
-      for (int i = 0; i < W; ++i) {
-        double sum = 0;
-        for (int k = -2; k <= 2; ++k)
-          sum += kTaps[k + 2] * x[size_t(y) * W + size_t(std::clamp(i + k, 0, W - 1))];
-        rows[size_t(y) * W + i] = sum;
-      }
-    for (int y = 0; y < H; ++y)
-      for (int i = 0; i < W; ++i) {
-        double sum = 0;
-        for (int k = -2; k <= 2; ++k)
-          sum += kTaps[k + 2] * rows[size_t(std::clamp(y + k, 0, H - 1)) * W + i];
-        blurred[size_t(y) * W + i] = sum;
-      }
-    for (size_t i = 0; i < size_t(W) * H; ++i)
-      x[i] = float(std::clamp(x[i] + amount * (x[i] - blurred[i]), -1.0, 1.0));
-  }
-}
-
-/// SamplingConfig::sharpenProbability: one amount for every view of the sample, drawn from the
-/// sampler's state after the frame and crop draws (read, not advanced).
-double drawSharpenAmount(const SamplingConfig& config, const TrainRandom::State& state) {
-  TrainRandom random(state[2] ^ (state[3] * 0xBF58476D1CE4E5B9ULL) ^ 0x5348415250ULL);
-  if (!random.chance(config.sharpenProbability))
-    return 0.0;
-  return random.uniform(0.0, config.sharpenMax);
-}
-
-} // namespace
 
 FrameDraw drawFrames(int frames, const SamplingConfig& c, TrainRandom& random) {
   if (frames < 2)
@@ -261,28 +194,7 @@ TrainingSample Sampler::drawWithFrames(const scene::Scene& scene, uint64_t scene
   }
   s.reference =
       scene::widenedCamera(scene::referenceCamera(s.sourceCameras), config_.referenceMargin);
-  // MixUp on the sources only (kornia RandomMixUp: blend with another image of the batch).
-  const int V = int(s.cleanSources.size());
-  s.sources = s.cleanSources;
-  s.mixupPartner.assign(size_t(V), -1);
-  s.mixupLambda.assign(size_t(V), 0.0);
-  if (V > 1 && config_.mixupProbability > 0) {
-    for (int v = 0; v < V; ++v) {
-      if (!random_.chance(config_.mixupProbability))
-        continue;
-      int other = int(random_.uniformInt(0, V - 2));
-      if (other >= v)
-        ++other;
-      const double lambda = random_.uniform(config_.mixupLambdaMin, config_.mixupLambdaMax);
-      const io::Image& a = s.cleanSources[size_t(v)];
-      const io::Image& b = s.cleanSources[size_t(other)];
-      io::Image& out = s.sources[size_t(v)];
-      for (size_t i = 0; i < out.data.size(); ++i)
-        out.data[i] = float((1.0 - lambda) * a.data[i] + lambda * b.data[i]);
-      s.mixupPartner[size_t(v)] = other;
-      s.mixupLambda[size_t(v)] = lambda;
-    }
-  }
+  mixupSources(s, config_, random_);
   if (config_.sourceExposureStd > 0 || config_.sourceChannelStd > 0)
     jitterSourceGains(s, config_, random_.state());
   return s;

@@ -8,7 +8,8 @@
 // sampling.zoom (images resized by it and centre-cropped back, §8.3's random resize), then one
 // random crop window (the same for every view), intrinsics updated for both; and source-only MixUp:
 // with probability p a source image becomes (1 - lambda) * itself + lambda * another source of the
-// sample, lambda ~ U[low, high]; the clean sources are kept for the intermediate losses.
+// sample, lambda ~ U[low, high]; the clean sources are kept for the intermediate losses. MixUp
+// and the other photometric augmentations are in training/augment.h.
 //
 // Everything random comes from one TrainRandom whose state goes into checkpoints, so a
 // resumed run draws the same samples as an uninterrupted one.
