@@ -1,5 +1,5 @@
 #!/bin/bash
-# `simpli widen` end to end: the shipped weights widened x2 score exactly what they scored on a
+# `simpli widen` end to end: tiny weights widened x2 score exactly what they scored on a
 # bundled scene (paired eval, and with the shipped tiny-x2 config file), and every bad option or
 # output gets a named error with nothing written and the input untouched.
 # Usage: widen.sh SIMPLI WEIGHTS SCENE CONFIG_DIR WORKDIR
