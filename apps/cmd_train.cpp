@@ -240,7 +240,7 @@ void addTrainCommand(CLI::App& app) {
                   "VGG-19 weights (safetensors, torchvision key names) for the perceptual loss");
   cmd->add_option("--init-weights", opts->initWeights,
                   "Warm-start a new run from these weights (safetensors with every parameter of "
-                  "the config's network, e.g. model/weights/default.safetensors for tiny)");
+                  "the config's network, e.g. model/weights/default.safetensors for tiny-prior)");
   cmd->add_option("--size", opts->size,
                   "Resize the images to WIDTHxHEIGHT, e.g. 192x128 (multiples of 16)");
   cmd->add_option("--seed", opts->seed, "Seed of the network initialisation and sampling");
