@@ -180,12 +180,21 @@ Trainer::Trainer(const TrainingConfig* config, const TrainerOptions& options) : 
       // Weights of the same network without the level-0 photo prior (their metadata says so):
       // the prior's input channel starts at zero weight.
       const std::optional<network::NetworkConfig> stored =
-          config_.network.lvl0PhotoPrior ? network::configFromWeights(options_.initWeights)
-                                         : std::nullopt;
-      const bool addPrior = stored && !stored->lvl0PhotoPrior;
-      const network::LoadReport r =
-          addPrior ? network::loadWithoutLvl0Prior(*network_, options_.initWeights)
-                   : network_->parameters().load(options_.initWeights);
+          network::configFromWeights(options_.initWeights);
+      const bool addPrior = config_.network.lvl0PhotoPrior && stored && !stored->lvl0PhotoPrior;
+      network::LoadReport r;
+      try {
+        r = addPrior ? network::loadWithoutLvl0Prior(*network_, options_.initWeights)
+                     : network_->parameters().load(options_.initWeights);
+      } catch (const Error& e) {
+        // Name both networks: the usual cause is weights of another config (e.g. the shipped
+        // tiny-prior weights for a tiny recipe).
+        if (stored && stored->name != config_.network.name)
+          fail("--init-weights '", options_.initWeights, "' holds a network of config '",
+               stored->name, "', the training config's network is '", config_.network.name, "' (",
+               e.what(), ")");
+        throw;
+      }
       say("initial weights: " + options_.initWeights + " (" + std::to_string(r.loaded) +
           " tensors" +
           (r.unexpected.empty() ? std::string()
