@@ -9,17 +9,6 @@
 
 namespace simpli::training {
 
-namespace {
-
-/// Standard normal from two uniforms (Box-Muller), spelled out like the sampler's other
-/// distributions so that runs agree across platforms.
-double standardNormal(TrainRandom& random) {
-  const double u1 = 1.0 - random.uniform(), u2 = random.uniform(); // u1 in (0, 1]
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-}
-
-} // namespace
-
 void mixupSources(TrainingSample& sample, const SamplingConfig& config, TrainRandom& random) {
   const int V = int(sample.cleanSources.size());
   sample.sources = sample.cleanSources;
@@ -51,10 +40,10 @@ void jitterSourceGains(TrainingSample& s, const SamplingConfig& config,
                        const TrainRandom::State& state) {
   TrainRandom random(state[0] ^ (state[1] * 0x9E3779B97F4A7C15ULL) ^ 0x50484f544fULL);
   for (io::Image& image : s.sources) {
-    const double exposure = config.sourceExposureStd * standardNormal(random);
+    const double exposure = config.sourceExposureStd * random.normal();
     std::array<double, 3> gains{};
     for (double& g : gains)
-      g = std::exp(exposure + config.sourceChannelStd * standardNormal(random));
+      g = std::exp(exposure + config.sourceChannelStd * random.normal());
     const size_t plane = image.data.size() / 3;
     for (size_t c = 0; c < 3; ++c)
       for (size_t i = c * plane; i < (c + 1) * plane; ++i) {

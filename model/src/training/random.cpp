@@ -4,6 +4,7 @@
 #include "simpli/error.h"
 
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -59,6 +60,11 @@ void TrainRandom::jump() {
 
 double TrainRandom::uniform() {
   return double(bits() >> 11) * 0x1.0p-53;
+}
+
+double TrainRandom::normal() {
+  const double u1 = 1.0 - uniform(), u2 = uniform(); // u1 in (0, 1]: the logarithm is finite
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
 }
 
 int64_t TrainRandom::uniformInt(int64_t lo, int64_t hi) {

@@ -24,6 +24,9 @@ public:
   /// Uniform integer in [lo, hi] (inclusive), unbiased (rejection). Throws when hi < lo.
   int64_t uniformInt(int64_t lo, int64_t hi);
   bool chance(double p) { return uniform() < p; }
+  /// Standard normal (Box-Muller from two uniforms, spelled out so that runs agree across
+  /// platforms, unlike std::normal_distribution).
+  double normal();
 
   /// Advances the state by 2^128 draws (the generator's published jump polynomial): streams
   /// made by jumping one seed's state 0, 1, 2, ... times never overlap (sample streams of
