@@ -78,6 +78,35 @@ TEST(Lvl0Prior, WeightsWithoutItKeepTheFunctionUntilThePriorIsWeighted) {
   EXPECT_GT(maxAbsDiff(a.rgba, d.rgba), 1e-3);
 }
 
+// tiny-prior-mpi, the MPI-only baseline of the shipped network (issue 10's comparison at equal
+// recipe and budget), is tiny-prior without the planes-to-layers stages: the shipped weights load
+// into it (the layer stages' tensors unused) and its level-0 MPI is the same function.
+TEST(Lvl0Prior, MpiOnlyBaselineSharesTheLevel0Mpi) {
+  ocl::NoGradGuard noGrad;
+  test::TempDir tmp;
+  auto simpliNet = test::configNetwork("tiny-prior", Dtype::F64, 3);
+  const std::string file = tmp.str("prior.safetensors");
+  simpliNet->parameters().save(file);
+  const network::NetworkConfig mpiConfig = network::resolveNetworkConfig("tiny-prior-mpi");
+  ASSERT_TRUE(mpiConfig.mpiOnly);
+  ASSERT_TRUE(mpiConfig.lvl0PhotoPrior);
+  network::SimpliNetwork mpi(mpiConfig, Dtype::F64, 99);
+  const network::LoadReport r = mpi.parameters().load(file);
+  EXPECT_EQ(r.loaded, mpi.parameters().size());
+  EXPECT_FALSE(r.unexpected.empty());
+  const generator::GeneratorInput input = test::syntheticInput(3, 32, 48, Dtype::F64, 5);
+  generator::GeneratorOptions options;
+  options.keepIntermediates = true;
+  const generator::GeneratorOutput a = generator::Generator(*simpliNet).forward(input, options);
+  const generator::GeneratorOutput b = generator::Generator(mpi).forward(input, options);
+  EXPECT_LT(maxAbsDiff(a.level0SourceWeights, b.level0SourceWeights), 1e-12);
+  EXPECT_EQ(a.planeDepths, b.planeDepths);
+  EXPECT_EQ(a.rgba.size(0), simpliNet->config().numLayers);
+  EXPECT_TRUE(b.mpiOnly);
+  EXPECT_EQ(b.rgba.size(0), mpiConfig.numPlanes);
+  EXPECT_TRUE(test::allFinite(b.rgba));
+}
+
 TEST(Lvl0Prior, LoadErrorsAreNamed) {
   test::TempDir tmp;
   network::SimpliNetwork plain(network::resolveNetworkConfig("tiny"));
