@@ -16,10 +16,6 @@ namespace simpli::baselines {
 
 namespace {
 
-/// Cost of a point seen by fewer than two sources, on every plane: above any windowed RGB
-/// variance of points that match (RGB in [-1, 1]; flower's best planes score ~0.01).
-constexpr double kUnmatchedCost = 0.2;
-
 /// Mean of `values` [H, W] over the window x window square around every pixel, counting only
 /// pixels inside the image (summed-area table, double).
 std::vector<double> boxMean(const std::vector<double>& values, int H, int W, int window) {
@@ -116,10 +112,8 @@ std::vector<std::vector<double>> planeProbabilities(const generator::GeneratorIn
                                                     const PlaneSweepStereoOptions& o, int height,
                                                     int width) {
   checkOptions(o);
+  checkDivides(in, height, width);
   const int H = int(in.images.size(2)), W = int(in.images.size(3));
-  if (height < 1 || width < 1 || H % height != 0 || W % width != 0)
-    fail("plane-sweep stereo: ", width, " x ", height, " does not divide the input's ", W, " x ",
-         H);
   ocl::NoGradGuard noGrad;
   const SweepStatistics s = sweepStatistics(in, depths, o);
   const size_t HW = size_t(H) * W, P = depths.size();
@@ -139,6 +133,13 @@ std::vector<std::vector<double>> planeProbabilities(const generator::GeneratorIn
 int windowPixels(const PlaneSweepStereoOptions& o, int width) {
   const int n = int(std::lround(o.windowFraction * width));
   return std::max(1, n % 2 == 1 ? n : n + 1);
+}
+
+void checkDivides(const generator::GeneratorInput& in, int height, int width) {
+  const int H = int(in.images.size(2)), W = int(in.images.size(3));
+  if (height < 1 || width < 1 || H % height != 0 || W % width != 0)
+    fail("plane-sweep stereo: ", width, " x ", height, " does not divide the input's ", W, " x ",
+         H);
 }
 
 void checkOptions(const PlaneSweepStereoOptions& o) {

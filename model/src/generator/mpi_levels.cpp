@@ -33,17 +33,12 @@ Tensor resizeTo(const Tensor& x, int height, int width) {
 }
 
 /// NetworkConfig::lvl0PhotoPrior: the plane-sweep stereo distribution over the network's planes
-/// on the level-0 grid, [1, 1, P, h0, w0] in the network's dtype. A function of the input images
-/// only (no gradient flows into it).
+/// on the level-0 grid, [1, 1, P, h0, w0] (on the device, in the network's dtype). A function of
+/// the input images only (no gradient flows into it).
 Tensor photoPrior(const Context& ctx) {
-  const std::vector<std::vector<double>> prob = baselines::planeProbabilities(
+  const Tensor prob = baselines::planeProbabilityVolume(
       ctx.input, ctx.planeDepths, {}, static_cast<int>(ctx.h0), static_cast<int>(ctx.w0));
-  std::vector<double> values;
-  values.reserve(prob.size() * prob[0].size());
-  for (const std::vector<double>& plane : prob)
-    values.insert(values.end(), plane.begin(), plane.end());
-  return Tensor::fromHost(values, {1, 1, static_cast<int64_t>(prob.size()), ctx.h0, ctx.w0},
-                          ctx.net.parameters().dtype());
+  return ocl::reshape(prob, {1, 1, prob.size(0), ctx.h0, ctx.w0});
 }
 
 } // namespace

@@ -11,6 +11,10 @@
 #include "simpli/model/synthetic/renderer.h"
 #include "simpli/model/synthetic/scene.h"
 
+#include "simpli/model/geometry/plane_sweep.h"
+#include "simpli/ocl/ops_reduce.h"
+#include "simpli/ocl/ops_shape.h"
+
 #include "support/expect_error.h"
 
 #include <gtest/gtest.h>
@@ -160,6 +164,62 @@ TEST(PlaneSweepStereo, PlaneProbabilitiesOnANetworksPlanes) {
   ASSERT_GT(inside, 10);
   EXPECT_GE(peaked, 0.9 * inside) << peaked << " of " << inside;
   test::expectError([&] { baselines::planeProbabilities(c.input, planes, {}, 7, w); },
+                    {"does not divide", "192 x 144"});
+}
+
+/// Largest |device - host| over a [P, h, w] volume and its host reference [P][h * w].
+double maxDifference(const ocl::Tensor& device, const std::vector<std::vector<double>>& host) {
+  const std::vector<double> d = device.toVector();
+  EXPECT_EQ(device.shape(), (ocl::Shape{int64_t(host.size()), device.size(1), device.size(2)}));
+  double worst = 0;
+  for (size_t p = 0; p < host.size(); ++p)
+    for (size_t j = 0; j < host[p].size(); ++j)
+      worst = std::max(worst, std::abs(d[p * host[p].size() + j] - host[p][j]));
+  return worst;
+}
+
+// The device volume (the network's photo prior) against the host version in double precision:
+// the default options at a quarter of the size, and a wider window, a softer softmin and
+// chunks of 3 planes (the counts concatenated) at full size. Near planes leave border points
+// seen by fewer than two sources (the unmatched cost); with one source every point is
+// unmatched and the distribution uniform.
+TEST(PlaneSweepStereo, DeviceVolumeMatchesTheHostReference) {
+  StereoCase c = makeCase();
+  const std::vector<double> planes = geometry::planeDepths(17, 1.0, 100.0);
+  const int H = c.truth.height, W = c.truth.width;
+  baselines::PlaneSweepStereoOptions other;
+  other.windowFraction = 0.1;
+  other.temperature = 1e-2;
+  other.planesPerChunk = 3;
+  for (const ocl::Dtype dtype : {ocl::Dtype::F64, ocl::Dtype::F32}) {
+    generator::GeneratorInput in = c.input;
+    in.images = c.input.images.to(dtype);
+    const double tolerance = dtype == ocl::Dtype::F64 ? 1e-6 : 1e-3;
+    const ocl::Tensor quarter = baselines::planeProbabilityVolume(in, planes, {}, H / 4, W / 4);
+    EXPECT_EQ(quarter.dtype(), dtype);
+    EXPECT_LT(maxDifference(quarter, baselines::planeProbabilities(in, planes, {}, H / 4, W / 4)),
+              tolerance);
+    EXPECT_LT(maxDifference(baselines::planeProbabilityVolume(in, planes, other, H, W),
+                            baselines::planeProbabilities(in, planes, other, H, W)),
+              tolerance);
+  }
+  // Some points of the nearest plane are seen by fewer than two sources (else the unmatched
+  // branch above went untested).
+  const std::vector<double> seen =
+      ocl::sum(geometry::planeSweep(c.input.images, c.input.reference, c.input.sources,
+                                    {planes.back()}, H, W)
+                   .mask,
+               0)
+          .toVector();
+  EXPECT_GT(std::count_if(seen.begin(), seen.end(), [](double n) { return n < 2; }), 100);
+  generator::GeneratorInput one = c.input;
+  one.images = ocl::slice(c.input.images, 0, 0, 1);
+  one.sources.resize(1);
+  const std::vector<double> uniform =
+      baselines::planeProbabilityVolume(one, planes, {}, H / 4, W / 4).toVector();
+  for (double v : uniform)
+    ASSERT_NEAR(v, 1.0 / 17.0, 1e-6);
+  test::expectError([&] { baselines::planeProbabilityVolume(c.input, planes, {}, 7, W); },
                     {"does not divide", "192 x 144"});
 }
 

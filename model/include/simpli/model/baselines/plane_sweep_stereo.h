@@ -32,6 +32,9 @@ struct PlaneSweepStereoOptions {
 /// Throws simpli::Error naming the field for options out of range.
 void checkOptions(const PlaneSweepStereoOptions& options);
 
+/// Throws simpli::Error unless height x width divides the input's image size.
+void checkDivides(const generator::GeneratorInput& input, int height, int width);
+
 /// One opaque surface: rgba [1, 4, H, W] (alpha 1), depth [1, H, W] (reference-camera z), in the
 /// input's reference camera (its size). Needs at least one source (a point seen by fewer than
 /// two has no match: it keeps the high cost on every plane and the mean of those that see it).
@@ -44,6 +47,18 @@ std::vector<std::vector<double>> planeProbabilities(const generator::GeneratorIn
                                                     const std::vector<double>& depths,
                                                     const PlaneSweepStereoOptions& options,
                                                     int height, int width);
+
+/// planeProbabilities computed on the OpenCL device in the images' dtype: [P, height, width]
+/// (what the network's level-0 photo prior reads, NetworkConfig::lvl0PhotoPrior). The same
+/// cost, window, softmin and area average; no gradient flows into it. The host version stays
+/// the double-precision reference it is tested against.
+ocl::Tensor planeProbabilityVolume(const generator::GeneratorInput& input,
+                                   const std::vector<double>& depths,
+                                   const PlaneSweepStereoOptions& options, int height, int width);
+
+/// Cost of a point seen by fewer than two sources, on every plane: above any windowed RGB
+/// variance of points that match (RGB in [-1, 1]; flower's best planes score ~0.01).
+inline constexpr double kUnmatchedCost = 0.2;
 
 /// Window edge in pixels for an image `width` wide: the odd number nearest to
 /// windowFraction x width, at least 1.
