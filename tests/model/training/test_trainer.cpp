@@ -33,6 +33,10 @@ namespace fs = std::filesystem;
 const std::string kScene = std::string(SIMPLI_DATASETS_SMALL_DIR) + "/synthetic/scene_00";
 
 // An explicit POCL_MAX_PTHREAD_COUNT in the environment wins (to study the parallel case).
+// The backward kernels add with float atomics, whose order varies with PoCL's threads, so the
+// bit-for-bit tests need one thread; PoCL reads the variable once, when the process first uses
+// OpenCL. ctest runs every test in its own process; running the whole binary at once makes the
+// earlier tests start PoCL on all cores and these tests then differ in the last digits.
 void deterministicDevice() {
   ::setenv("POCL_MAX_PTHREAD_COUNT", "1", 0);
 }
