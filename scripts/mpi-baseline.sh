@@ -7,9 +7,9 @@
 #            network's budget).
 #   bash scripts/mpi-baseline.sh RUNS
 # Each call starts or resumes whichever phase is due (a finished phase 1 starts phase 2), through
-# scripts/train-long.sh: one thread, niced, checkpoints every 50 steps, the flower monitor every
-# 100 on ../shared/realdata/flower when it exists (SIMPLI_VALIDATE=SCENE: another scene, empty:
-# none). PHASE1_STEPS / PHASE2_STEPS change the budgets.
+# scripts/train-long.sh: niced, one thread (SIMPLI_RUN_THREADS=N: N), checkpoints every 50 steps,
+# the flower monitor every 100 on ../shared/realdata/flower when it exists (SIMPLI_VALIDATE=SCENE:
+# another scene, empty: none). PHASE1_STEPS / PHASE2_STEPS change the budgets.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 runs=${1:?usage: mpi-baseline.sh RUNS_DIR}
@@ -18,7 +18,7 @@ phase2_steps=${PHASE2_STEPS:-1000}
 recipes=$root/model/configs/training
 flower=$root/../shared/realdata/flower
 
-export SIMPLI_RUN_THREADS=1 SIMPLI_CHECKPOINT_EVERY=50 SIMPLI_VALIDATE_EVERY=100
+export SIMPLI_RUN_THREADS=${SIMPLI_RUN_THREADS:-1} SIMPLI_CHECKPOINT_EVERY=50 SIMPLI_VALIDATE_EVERY=100
 if [[ -z "${SIMPLI_VALIDATE+set}" && -d "$flower" ]]; then # SIMPLI_VALIDATE= : no monitor
   SIMPLI_VALIDATE=$(cd "$flower" && pwd)
   export SIMPLI_VALIDATE
