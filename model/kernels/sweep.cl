@@ -146,6 +146,30 @@ __kernel void sweep_backward(const int S, const int h, const int w, const int V,
   if (want_depth) gdepth[s * hw + pix] = gd;
 }
 
+// ---- coverage: out [S, 1, h, w] = how many views see each surface point ------------------------
+//
+// The sum over views of sweep_forward's mask without gathering a single texel: the photo prior
+// needs only where at least two sources see a point, and a sweep of the maps would cost a gather
+// per view and channel for it. No gradient (the masks are piecewise constant).
+__kernel void sweep_coverage(const int S, const int h, const int w, const int V, const int C,
+                             const int Hs, const int Ws, const int corner, const int depth_map,
+                             __global const REAL* cams, const REAL rfx, const REAL rfy,
+                             const REAL rcx, const REAL rcy, __global const REAL* depth,
+                             __global REAL* out) {
+  const int x = get_global_id(0), y = get_global_id(1), s = get_global_id(2);
+  if (x >= w || y >= h || s >= S) return;
+  const int hw = h * w, pix = y * w + x;
+  const REAL2 q = reference_ray(x, y, h, w, corner, rfx, rfy, rcx, rcy);
+  const REAL d = surface_depth(depth_map, depth, s, pix, hw, q);
+  int seen = 0;
+  for (int v = 0; v < V; ++v) {
+    Projection p;
+    project(cams + v * CAM_STRIDE, q, d, &p);
+    seen += p.inside;
+  }
+  out[s * hw + pix] = (REAL)seen;
+}
+
 // ---- fused aggregation: out [S, 2C, h, w] = [mean | variance] -------------------------------
 //
 // w_v = m_v / (sum_v m_v + 1e-7), times omega_v (surface s's own slice of weights

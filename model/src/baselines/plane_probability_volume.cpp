@@ -13,30 +13,11 @@
 #include "simpli/ocl/ops_shape.h"
 #include "simpli/ocl/ops_softmax.h"
 
-#include <algorithm>
-
 namespace simpli::baselines {
 
 namespace {
 
 using ocl::Tensor;
-
-/// Sources seeing each point of every plane, [P, 1, H, W] (the sweep's masks are 0 or 1),
-/// gathered `planesPerChunk` planes at a time: the masks are materialised per view.
-Tensor sourcesSeeing(const generator::GeneratorInput& in, const std::vector<double>& depths,
-                     int chunkPlanes) {
-  const int H = int(in.images.size(2)), W = int(in.images.size(3));
-  const Tensor oneChannel = ocl::slice(in.images, 1, 0, 1);
-  std::vector<Tensor> counts;
-  for (size_t first = 0; first < depths.size(); first += size_t(chunkPlanes)) {
-    const size_t last = std::min(depths.size(), first + size_t(chunkPlanes));
-    const std::vector<double> chunk(depths.begin() + long(first), depths.begin() + long(last));
-    const geometry::SurfaceSamples g =
-        geometry::planeSweep(oneChannel, in.reference, in.sources, chunk, H, W);
-    counts.push_back(ocl::sum(g.mask, 0)); // [S, 1, H, W]
-  }
-  return counts.size() == 1 ? counts[0] : ocl::concat(counts, 0);
-}
 
 /// Mean of x [P, 1, H, W] over the window x window square around every pixel, counting only
 /// pixels inside the image (as the host's summed-area table): the zero-padded sum over rows,
@@ -66,8 +47,9 @@ Tensor planeProbabilityVolume(const generator::GeneratorInput& in,
       geometry::planeSweepMeanVar(in.images, in.reference, in.sources, depths, H, W);
   const Tensor variance = ocl::sum(ocl::slice(meanVar, 1, 3, 6), 1, /*keepdim=*/true);
   // 1 where at least two sources see the point (counts are whole numbers), else 0.
-  const Tensor matched =
-      ocl::clamp(ocl::addScalar(sourcesSeeing(in, depths, o.planesPerChunk), -1.0), 0.0, 1.0);
+  const Tensor seeing =
+      geometry::planeSweepCoverage(in.images, in.reference, in.sources, depths, H, W);
+  const Tensor matched = ocl::clamp(ocl::addScalar(seeing, -1.0), 0.0, 1.0);
   const Tensor cost =
       ocl::addScalar(ocl::mul(matched, ocl::addScalar(variance, -kUnmatchedCost)), kUnmatchedCost);
   const Tensor windowed = boxMean(cost, windowPixels(o, W));

@@ -39,6 +39,13 @@ SurfaceSamples planeSweep(const ocl::Tensor& sources, const scene::Camera& refer
                                   planeSpec("planeSweep", sources, depths, height, width));
 }
 
+ocl::Tensor planeSweepCoverage(const ocl::Tensor& sources, const scene::Camera& reference,
+                               const std::vector<scene::Camera>& views,
+                               const std::vector<double>& depths, int height, int width) {
+  return geometry::sampleSurfacesCoverage(
+      sources, reference, views, planeSpec("planeSweepCoverage", sources, depths, height, width));
+}
+
 ocl::Tensor planeSweepMeanVar(const ocl::Tensor& sources, const scene::Camera& reference,
                               const std::vector<scene::Camera>& views,
                               const std::vector<double>& depths, int height, int width,

@@ -200,6 +200,25 @@ SurfaceSamples sampleSurfaces(const Tensor& sources, const scene::Camera& refere
   return {out, mask};
 }
 
+Tensor sampleSurfacesCoverage(const Tensor& sources, const scene::Camera& reference,
+                              const std::vector<scene::Camera>& views, const SurfaceSpec& spec) {
+  const Dims d = checkInputs(sources, Tensor(), reference, views, spec, false);
+  ensureModelKernels();
+  const ocl::Dtype dtype = sources.dtype();
+  Tensor out = Tensor::empty({d.S, 1, d.h, d.w}, dtype);
+  Launch l("sweep", "sweep_coverage", dtype);
+  addCommon(l, d)
+      .arg(upload(viewBlocks(reference, views), dtype))
+      .real(d.rfx)
+      .real(d.rfy)
+      .real(d.rcx)
+      .real(d.rcy)
+      .arg(spec.depth)
+      .arg(out)
+      .run3(d.w, d.h, d.S);
+  return out;
+}
+
 Tensor sampleSurfacesMeanVar(const Tensor& sources, const Tensor& weights,
                              const scene::Camera& reference,
                              const std::vector<scene::Camera>& views, const SurfaceSpec& spec) {

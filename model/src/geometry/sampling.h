@@ -32,6 +32,12 @@ struct SurfaceSpec {
 SurfaceSamples sampleSurfaces(const ocl::Tensor& sources, const scene::Camera& reference,
                               const std::vector<scene::Camera>& views, const SurfaceSpec& spec);
 
+/// [S, 1, h, w]: the number of views whose mask is 1 at each surface point (no gradient);
+/// `sources` give only the views' count and the dtype.
+ocl::Tensor sampleSurfacesCoverage(const ocl::Tensor& sources, const scene::Camera& reference,
+                                   const std::vector<scene::Camera>& views,
+                                   const SurfaceSpec& spec);
+
 /// [S, 2C, h, w] mean | variance; `weights` may be undefined.
 ocl::Tensor sampleSurfacesMeanVar(const ocl::Tensor& sources, const ocl::Tensor& weights,
                                   const scene::Camera& reference,

@@ -6,11 +6,13 @@
 #include "simpli/model/geometry/mpi_render.h"
 #include "simpli/model/geometry/plane_sweep.h"
 #include "simpli/ocl/autograd.h"
+#include "simpli/ocl/ops_reduce.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 
 namespace simpli {
@@ -151,6 +153,58 @@ TEST(GeometryAnalytic, PlaneSweepIsClosedFormHomography) {
     std::printf("[analytic] %s: plane sweep vs closed-form homography %.3g\n",
                 dtype == Dtype::F32 ? "float32" : "float64", err);
     EXPECT_LE(err, dtype == Dtype::F32 ? 1e-5 : 1e-10);
+  }
+}
+
+// Plane-sweep coverage counts the views in which the closed-form homography of each reference
+// pixel lands inside the image (|g| <= 1), and equals the sweep's mask summed over views. Wide
+// baselines and near planes, so counts from 0 to V occur; pixels within 1e-9 of an image edge
+// are skipped (rounding decides them).
+TEST(GeometryAnalytic, PlaneSweepCoverageCountsTheViewsInsideTheImage) {
+  std::mt19937_64 rng(93);
+  const scene::Camera ref = geomtest::referenceCamera();
+  std::vector<scene::Camera> views;
+  for (int v = 0; v < 4; ++v)
+    views.push_back(geomtest::randomCamera(rng, 0.15, 0.6));
+  const std::vector<double> depths{0.8, 1.5, 4.0};
+  constexpr int V = 4, P = 3, Hs = 12, Ws = 14, h = 17, w = 23;
+  std::vector<double> expected(std::size_t(P) * h * w);
+  std::vector<bool> decided(expected.size(), true);
+  std::vector<int> histogram(V + 1, 0);
+  for (int p = 0; p < P; ++p)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = (std::size_t(p) * h + y) * w + x;
+        const Eigen::Vector3d q =
+            ref.relativeK().inverse() * Eigen::Vector3d((x + 0.5) / w, (y + 0.5) / h, 1.0);
+        const double nr = 1 / q.norm();
+        int seen = 0;
+        for (int v = 0; v < V; ++v) {
+          const Eigen::Matrix3d H =
+              planeHomography(ref, views[v], ref, depths[p] * nr / (nr + 1e-7));
+          const Eigen::Vector2d g = mapPixel(H, x, y, w, h);
+          const double edge = std::max(std::abs(g.x()), std::abs(g.y()));
+          decided[i] = decided[i] && std::abs(edge - 1) > 1e-9;
+          seen += edge <= 1;
+        }
+        expected[i] = seen;
+        ++histogram[seen];
+      }
+  for (int n = 0; n <= V; ++n)
+    EXPECT_GT(histogram[n], 0) << "no point seen by exactly " << n << " views: a weak case";
+  const std::vector<double> maps = geomtest::randomValues(V * 2 * Hs * Ws, -1, 1, 94);
+  for (Dtype dtype : {Dtype::F32, Dtype::F64}) {
+    const Tensor sources = Tensor::fromHost(maps, {V, 2, Hs, Ws}, dtype);
+    const std::vector<double> coverage =
+        geometry::planeSweepCoverage(sources, ref, views, depths, h, w).toVector();
+    ASSERT_EQ(coverage.size(), expected.size());
+    int wrong = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i)
+      wrong += decided[i] && coverage[i] != expected[i];
+    EXPECT_EQ(wrong, 0) << (dtype == Dtype::F32 ? "float32" : "float64");
+    const std::vector<double> maskSum =
+        ocl::sum(geometry::planeSweep(sources, ref, views, depths, h, w).mask, 0).toVector();
+    EXPECT_EQ(coverage, maskSum) << (dtype == Dtype::F32 ? "float32" : "float64");
   }
 }
 

@@ -122,6 +122,23 @@ TEST_F(GeometryErrors, MeanVarArguments) {
       {"planeSweepMeanVar", "65 source views", "at most 64"});
 }
 
+TEST_F(GeometryErrors, CoverageArguments) {
+  expectError(
+      [&] {
+        geometry::planeSweepCoverage(Tensor::zeros({2, 2, 3, 8, 10}), ref, views, depths, 4, 5);
+      },
+      {"planeSweepCoverage", "[V, C, Hs, Ws]"});
+  expectError([&] { geometry::planeSweepCoverage(maps, ref, {views[0]}, depths, 4, 5); },
+              {"planeSweepCoverage", "2 views", "1 source cameras"});
+  expectError(
+      [&] {
+        geometry::planeSweepCoverage(maps, ref, views, {1.0, -2.0}, 4, 5);
+      },
+      {"planeSweepCoverage", "plane depth 1", "-2"});
+  expectError([&] { geometry::planeSweepCoverage(maps, ref, views, depths, 0, 5); },
+              {"planeSweepCoverage", "0x5"});
+}
+
 TEST_F(GeometryErrors, LayerArguments) {
   expectError([&] { geometry::unprojectLayers(maps, Tensor(), ref, views); },
               {"unprojectLayers", "undefined depth"});

@@ -32,6 +32,13 @@ SurfaceSamples planeSweep(const ocl::Tensor& sources, const scene::Camera& refer
                           const std::vector<scene::Camera>& views,
                           const std::vector<double>& depths, int height, int width);
 
+/// How many views see each point of every plane: planeSweep's mask summed over views, [P, 1,
+/// height, width], without gathering the maps (sources [V, C, Hs, Ws] give only the view count
+/// and dtype). Not differentiable.
+ocl::Tensor planeSweepCoverage(const ocl::Tensor& sources, const scene::Camera& reference,
+                               const std::vector<scene::Camera>& views,
+                               const std::vector<double>& depths, int height, int width);
+
 /// The fused aggregation of the reference's TBlock (§3 step 2.4, §4.7), without materialising
 /// the sweep: w_v = m_v / (sum_v m_v + 1e-7), times plane p's own slice of `weights`
 /// [V, P, 1, Hs, Ws] gathered like the maps when `weights` is defined (level 1; not
