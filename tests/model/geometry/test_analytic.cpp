@@ -158,8 +158,8 @@ TEST(GeometryAnalytic, PlaneSweepIsClosedFormHomography) {
 
 // Plane-sweep coverage counts the views in which the closed-form homography of each reference
 // pixel lands inside the image (|g| <= 1), and equals the sweep's mask summed over views. Wide
-// baselines and near planes, so counts from 0 to V occur; pixels within 1e-9 of an image edge
-// are skipped (rounding decides them).
+// baselines and near planes, so counts from 0 to V occur; pixels within 1e-5 of an image edge
+// are skipped in that comparison (float32 rounding decides them).
 TEST(GeometryAnalytic, PlaneSweepCoverageCountsTheViewsInsideTheImage) {
   std::mt19937_64 rng(93);
   const scene::Camera ref = geomtest::referenceCamera();
@@ -184,7 +184,7 @@ TEST(GeometryAnalytic, PlaneSweepCoverageCountsTheViewsInsideTheImage) {
               planeHomography(ref, views[v], ref, depths[p] * nr / (nr + 1e-7));
           const Eigen::Vector2d g = mapPixel(H, x, y, w, h);
           const double edge = std::max(std::abs(g.x()), std::abs(g.y()));
-          decided[i] = decided[i] && std::abs(edge - 1) > 1e-9;
+          decided[i] = decided[i] && std::abs(edge - 1) > 1e-5;
           seen += edge <= 1;
         }
         expected[i] = seen;
