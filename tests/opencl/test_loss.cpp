@@ -68,6 +68,38 @@ double smoothLayersRef(const std::vector<double>& x, const Shape& s) {
   return std::sqrt(sy + sx + 1e-6) / static_cast<double>(x.size());
 }
 
+// 1 - SSIM as the metric defines it: per image plane, "valid" Gaussian-window moments, the SSIM
+// map's mean; then the mean over planes. Direct 2-D windows (not separable) in double.
+double ssimLossRef(const HostInputs& in, const Shape& s, const ocl::SsimOptions& o) {
+  const int64_t planes = s[0] * s[1], H = s[2], W = s[3], n = o.windowSize, r = n / 2;
+  std::vector<double> g(static_cast<size_t>(n));
+  double gs = 0.0;
+  for (int64_t i = 0; i < n; ++i)
+    gs += g[size_t(i)] = std::exp(-double((i - r) * (i - r)) / (2.0 * o.sigma * o.sigma));
+  const double c1 = (o.k1 * o.dataRange) * (o.k1 * o.dataRange);
+  const double c2 = (o.k2 * o.dataRange) * (o.k2 * o.dataRange);
+  double total = 0.0;
+  for (int64_t p = 0; p < planes; ++p) {
+    const double* x = in[0].data() + p * H * W;
+    const double* y = in[1].data() + p * H * W;
+    double sum = 0.0;
+    for (int64_t i = 0; i + n <= H; ++i)
+      for (int64_t j = 0; j + n <= W; ++j) {
+        double mx = 0, my = 0, xx = 0, yy = 0, xy = 0;
+        for (int64_t u = 0; u < n; ++u)
+          for (int64_t v = 0; v < n; ++v) {
+            const double w = g[size_t(u)] * g[size_t(v)] / (gs * gs);
+            const double a = x[(i + u) * W + j + v], b = y[(i + u) * W + j + v];
+            mx += w * a, my += w * b, xx += w * a * a, yy += w * b * b, xy += w * a * b;
+          }
+        sum += (2 * mx * my + c1) * (2 * (xy - mx * my) + c2) /
+               ((mx * mx + my * my + c1) * (xx - mx * mx + yy - my * my + c2));
+      }
+    total += sum / double((H - n + 1) * (W - n + 1));
+  }
+  return 1.0 - total / double(planes);
+}
+
 const Shape kPointwiseShapes[] = {{1}, {7}, {2, 3, 1, 5}, {3, 1001}, {2, 3, 64, 67}};
 
 } // namespace
@@ -204,6 +236,71 @@ TEST(Loss, SmoothLayersOfConstantDepthIsFiniteWithZeroGradient) {
   }
 }
 
+TEST(Loss, SsimAgainstReference) {
+  WorstErrors worst{"Loss.SsimAgainstReference"};
+  struct SsimCase {
+    Shape shape;
+    ocl::SsimOptions options;
+  };
+  const SsimCase cases[] = {{{1, 1, 11, 11}, {}},
+                            {{2, 3, 13, 17}, {}},
+                            {{1, 2, 24, 31}, {7, 1.0, 2.0, 0.01, 0.03}},
+                            {{3, 1, 5, 9}, {3, 0.8, 1.0, 0.05, 0.1}},
+                            {{1, 1, 4, 6}, {1, 1.5, 1.0, 0.01, 0.03}}};
+  for (const auto& sc : cases) {
+    OpCase c;
+    c.name =
+        "ssimLoss " + ocl::toString(sc.shape) + " window " + std::to_string(sc.options.windowSize);
+    c.inputShapes = {sc.shape, sc.shape};
+    c.device = [o = sc.options](const std::vector<ocl::Tensor>& in) {
+      return ocl::ssimLoss(in[0], in[1], o);
+    };
+    c.reference = [sc](const HostInputs& in) {
+      return std::vector<double>{ssimLossRef(in, sc.shape, sc.options)};
+    };
+    // b = a blurred a little plus noise: a pair with SSIM well inside (0, 1), not only noise.
+    c.prepare = [](HostInputs& in) {
+      for (std::size_t i = 0; i < in[0].size(); ++i)
+        in[1][i] = 0.6 * in[0][i] + 0.2 * in[0][i > 0 ? i - 1 : i] + 0.1 * in[1][i];
+    };
+    c.maxGradientProbes = 24;
+    // Cancellation in E[x^2] - E[x]^2 costs float32 digits: the forward is a mean of ratios of
+    // such differences.
+    c.forwardTolerance = 1e-4;
+    worst.add(checkOp(c));
+  }
+}
+
+TEST(Loss, SsimHandValues) {
+  for (Dtype dtype : {Dtype::F32, Dtype::F64}) {
+    // float32: the variances E[x^2] - E[x]^2 of a constant image cancel to ~1e-8 against C2 =
+    // 9e-4 in the contrast term.
+    const double tol = dtype == Dtype::F32 ? 1e-4 : 1e-12;
+    // Identical images: SSIM 1, loss 0, and a maximum, so a zero gradient.
+    auto a = ocl::Tensor::normal({1, 3, 12, 14}, 0.5, 0.2, 7, dtype).setRequiresGrad(true);
+    ocl::Tensor same = ocl::ssimLoss(a, a.detach());
+    EXPECT_NEAR(same.item(), 0.0, tol);
+    same.backward();
+    for (double g : a.grad().toVector())
+      EXPECT_NEAR(g, 0.0, dtype == Dtype::F32 ? 1e-4 : 1e-10);
+    // Constant images u and v: no variance, SSIM = (2uv + C1) / (u^2 + v^2 + C1).
+    auto u = ocl::Tensor::full({1, 1, 11, 11}, 0.25, dtype);
+    auto v = ocl::Tensor::full({1, 1, 11, 11}, 0.75, dtype);
+    const double c1 = 1e-4;
+    EXPECT_NEAR(ocl::ssimLoss(u, v).item(),
+                1.0 - (2 * 0.25 * 0.75 + c1) / (0.25 * 0.25 + 0.75 * 0.75 + c1), tol);
+    // Anti-correlated images of equal mean and variance: SSIM = (C2 - 2 s^2) / (2 s^2 + C2) < 0.
+    std::vector<double> p(121), q(121);
+    for (size_t i = 0; i < p.size(); ++i) {
+      p[i] = 0.5 + ((i % 2) ? 0.1 : -0.1);
+      q[i] = 1.0 - p[i];
+    }
+    auto pt = ocl::Tensor::fromHost(p, {1, 1, 11, 11}, dtype);
+    auto qt = ocl::Tensor::fromHost(q, {1, 1, 11, 11}, dtype);
+    EXPECT_GT(ocl::ssimLoss(pt, qt).item(), 1.5);
+  }
+}
+
 TEST(Loss, BadUseThrowsNamingLossAndShapes) {
   auto a = ocl::Tensor::zeros({2, 3});
   auto b = ocl::Tensor::zeros({3, 2});
@@ -237,6 +334,21 @@ TEST(Loss, BadUseThrowsNamingLossAndShapes) {
         ocl::maskedL1(ocl::Tensor::zeros({3, 4, 5}), ocl::Tensor::zeros({3, 4, 5}), p);
       },
       {"maskedL1", "f32[3, 4, 5]", "[N, C, H, W]"});
+
+  expectError(
+      [&] {
+        ocl::ssimLoss(p, ocl::Tensor::zeros({2, 3, 4, 6}));
+      },
+      {"ssimLoss", "f32[2, 3, 4, 5]", "f32[2, 3, 4, 6]"});
+  expectError([&] { ocl::ssimLoss(p, p); }, {"ssimLoss", "f32[2, 3, 4, 5]", "11 x 11 window"});
+  expectError([&] { ocl::ssimLoss(p, p, {4}); }, {"ssimLoss", "window size 4"});
+  expectError([&] { ocl::ssimLoss(p, p, {3, 0.0}); }, {"ssimLoss", "sigma 0"});
+  expectError([&] { ocl::ssimLoss(p, p, {3, 1.0, -1.0}); }, {"ssimLoss", "data range -1"});
+  expectError(
+      [&] {
+        ocl::ssimLoss(ocl::Tensor::zeros({3, 4, 5}), ocl::Tensor::zeros({3, 4, 5}));
+      },
+      {"ssimLoss", "f32[3, 4, 5]", "[N, C, H, W]"});
 
   expectError([&] { ocl::totalVariation(ocl::Tensor::zeros({5})); }, {"totalVariation", "f32[5]"});
   expectError(

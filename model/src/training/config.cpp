@@ -92,7 +92,8 @@ const std::vector<std::string>& lossTermNames() {
                                               "intermediate_loss_3_l1",
                                               "smooth_layers",
                                               "depth",
-                                              "mpi_depth"};
+                                              "mpi_depth",
+                                              "ssim"};
   return names;
 }
 
@@ -106,7 +107,8 @@ TrainingConfig::TrainingConfig() {
                  {"intermediate_loss_3_l1", 1.0},
                  {"smooth_layers", 0.01},
                  {"depth", 0.0},
-                 {"mpi_depth", 0.0}};
+                 {"mpi_depth", 0.0},
+                 {"ssim", 0.0}};
 }
 
 double TrainingConfig::weight(const std::string& term) const {

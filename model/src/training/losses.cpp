@@ -68,6 +68,13 @@ ocl::Tensor depthLoss(const ocl::Tensor& renderedDepth, const ocl::Tensor& rende
   return ocl::mulScalar(ocl::sumAll(weighted), 1.0 / known); // [1]
 }
 
+ocl::Tensor ssimLossOfSignedImages(const ocl::Tensor& rendered, const ocl::Tensor& target) {
+  // Images are in [-1, 1]; the metric's SSIM reads [0, 1] (its luminance term is not
+  // shift-invariant), so map them there first.
+  auto toUnit = [](const ocl::Tensor& x) { return ocl::mulScalar(ocl::addScalar(x, 1.0), 0.5); };
+  return ocl::ssimLoss(toUnit(rendered), toUnit(target));
+}
+
 LossTerms computeLosses(const TrainingConfig& config, const generator::GeneratorOutput& output,
                         const ocl::Tensor& novelColour, const ocl::Tensor& novelOpacity,
                         const ocl::Tensor& novelTargets, const ocl::Tensor& cleanSources,
@@ -107,6 +114,8 @@ LossTerms computeLosses(const TrainingConfig& config, const generator::Generator
            "(keepIntermediates)");
     addTerm("mpi_depth", planeCrossEntropy(output.level0SourceWeights, *planes));
   }
+  if (config.weight("ssim") > 0)
+    addTerm("ssim", ssimLossOfSignedImages(novelColour, novelTargets));
   // Keep lossTermNames() order in the list (perceptual may be missing; order is preserved).
   if (!out.total.defined())
     out.total = ocl::Tensor::zeros({1}, novelColour.dtype());

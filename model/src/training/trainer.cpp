@@ -23,12 +23,13 @@ namespace simpli::training {
 namespace {
 namespace fs = std::filesystem;
 
-// The loss terms in log.csv: the reference's always; the depth terms (not in the reference)
-// only when they are on, so that the logs of runs without them keep their columns (and resume).
+// The loss terms in log.csv: the reference's always; the terms not in the reference (depth,
+// mpi_depth, ssim) only when they are on, so that the logs of runs without them keep their
+// columns (and resume).
 std::vector<std::string> loggedTerms(const TrainingConfig& config) {
   std::vector<std::string> terms;
   for (const std::string& t : lossTermNames())
-    if ((t != "depth" && t != "mpi_depth") || config.weight(t) > 0)
+    if ((t != "depth" && t != "mpi_depth" && t != "ssim") || config.weight(t) > 0)
       terms.push_back(t);
   return terms;
 }

@@ -1,10 +1,12 @@
 // The training losses of §8.1 against plain double references on small random inputs.
 #include "support/expect_error.h"
 
+#include "simpli/model/metrics/image_quality.h"
 #include "simpli/model/training/losses.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -122,6 +124,53 @@ TEST(TrainLosses, MatchDoubleReference) {
     EXPECT_TRUE(std::isnan(terms.value("perceptual")));
     EXPECT_NEAR(terms.total.item(), refTotal, tol * refTotal);
   }
+}
+
+// The ssim term is one minus the evaluation metric on the same images: training lowers exactly
+// what the SSIM column of `simpli eval` reports (before the central crop).
+TEST(TrainLosses, SsimTermIsOneMinusTheMetric) {
+  std::mt19937 g(23);
+  const int64_t N = 2, H = 19, W = 26;
+  HostT colour = randomT({N, 3, H, W}, -1, 1, g);
+  const HostT noise = randomT({N, 3, H, W}, -0.3, 0.3, g);
+  HostT target = colour; // a related pair: SSIM well inside (0, 1)
+  for (size_t i = 0; i < target.v.size(); ++i)
+    target.v[i] = std::clamp(0.7 * colour.v[i] + noise.v[i], -1.0, 1.0);
+  double metricMean = 0;
+  for (int64_t n = 0; n < N; ++n) {
+    metrics::MetricImage a(int(W), int(H), 3), b(int(W), int(H), 3);
+    for (int c = 0; c < 3; ++c)
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+          const size_t k = size_t(((n * 3 + c) * H + y) * W + x);
+          a.at(y, x, c) = float((colour.v[k] + 1) / 2);
+          b.at(y, x, c) = float((target.v[k] + 1) / 2);
+          // The metric reads float pixels: give the loss the same values.
+          colour.v[k] = 2.0 * double(a.at(y, x, c)) - 1.0;
+          target.v[k] = 2.0 * double(b.at(y, x, c)) - 1.0;
+        }
+    metricMean += metrics::ssim(a, b) / double(N);
+  }
+  EXPECT_GT(metricMean, 0.2);
+  EXPECT_LT(metricMean, 0.9);
+  EXPECT_NEAR(
+      ssimLossOfSignedImages(dev(colour, ocl::Dtype::F64), dev(target, ocl::Dtype::F64)).item(),
+      1.0 - metricMean, 1e-12);
+  // In computeLosses: only when its weight is positive, and then in the total.
+  TrainingConfig cfg;
+  generator::GeneratorOutput out;
+  out.depth = dev(randomT({4, H, W}, 1, 30, g), ocl::Dtype::F64);
+  const HostT opacity = randomT({N, 1, H, W}, 0, 1, g), clean = randomT({1, 3, H, W}, -1, 1, g);
+  auto losses = [&] {
+    return computeLosses(cfg, out, dev(colour, ocl::Dtype::F64), dev(opacity, ocl::Dtype::F64),
+                         dev(target, ocl::Dtype::F64), dev(clean, ocl::Dtype::F64), nullptr);
+  };
+  const LossTerms off = losses();
+  EXPECT_TRUE(std::isnan(off.value("ssim")));
+  cfg.lossWeights["ssim"] = 0.5;
+  const LossTerms on = losses();
+  EXPECT_NEAR(on.value("ssim"), 1.0 - metricMean, 1e-12);
+  EXPECT_NEAR(on.total.item() - off.total.item(), 0.5 * (1.0 - metricMean), 1e-12);
 }
 
 // depthLoss = sum over known pixels of A |log((D + eps) / (A + eps)) - log z|, divided by their

@@ -189,6 +189,33 @@ TEST(TrainTrainer, FusedAggregationTrainsLikeTheComposedOps) {
   fs::remove_all(b);
 }
 
+// The ssim term (not in the reference): a log column only when on, in the total with its weight.
+TEST(TrainTrainer, SsimTermIsLoggedAndInTheTotal) {
+  deterministicDevice();
+  const fs::path run = tempRun("ssim_on");
+  TrainingConfig cfg = tinyConfig(2, 2);
+  cfg.dtype = ocl::Dtype::F64;
+  cfg.lossWeights["ssim"] = 0.25;
+  TrainerOptions o = options(run);
+  Trainer(&cfg, o).run();
+  std::vector<std::string> header;
+  const auto rows = TrainLog::read((run / "log.csv").string(), &header);
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& values : rows) {
+    std::map<std::string, double> row;
+    for (size_t i = 0; i < header.size(); ++i)
+      row[header[i]] = values[i];
+    ASSERT_EQ(row.count("ssim"), 1u);
+    EXPECT_GT(row["ssim"], 0.01); // an untrained network's render is not its target
+    EXPECT_LT(row["ssim"], 2.0);
+    double total = 0.25 * row["ssim"] + row["l1"] + 0.01 * row["smooth_layers"];
+    for (int k = 0; k < 4; ++k)
+      total += row["intermediate_loss_" + std::to_string(k) + "_l1"];
+    EXPECT_NEAR(row["total"], total, 1e-9 * total);
+  }
+  fs::remove_all(run);
+}
+
 // The level-0 plane term (mpi_depth) on synthetic data, which knows its depth: logged only
 // when on, part of the total with its weight, and it reaches the level-0 parameters (the same
 // seed and samples without it end with other level-0 weights).

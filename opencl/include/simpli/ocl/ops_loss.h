@@ -27,4 +27,19 @@ Tensor totalVariation(const Tensor& x);
 /// one global L2 norm of the depth gradients.
 Tensor smoothLayersLoss(const Tensor& depth);
 
+/// The window and constants of SSIM (Wang et al. 2004): an n x n Gaussian window, and
+/// C1 = (k1 L)^2, C2 = (k2 L)^2 for data range L.
+struct SsimOptions {
+  int windowSize = 11;
+  double sigma = 1.5;
+  double dataRange = 1.0;
+  double k1 = 0.01;
+  double k2 = 0.03;
+};
+
+/// 1 - SSIM of a and b [N, C, H, W] (not in the reference): the SSIM map over the valid windows
+/// (no padding; H and W at least the window) of every image and channel, averaged, as the
+/// evaluation metric computes it (metrics/image_quality.h). Differentiable in both inputs.
+Tensor ssimLoss(const Tensor& a, const Tensor& b, const SsimOptions& options = {});
+
 } // namespace simpli::ocl

@@ -23,7 +23,8 @@
 //   "loss_weights": {"l1": 1, "perceptual": 0, "intermediate_loss_0_l1": 1,
 //                    "intermediate_loss_1_l1": 1, "intermediate_loss_2_l1": 1,
 //                    "intermediate_loss_3_l1": 1, "smooth_layers": 0.01,
-//                    "depth": 0},          // not in the reference: training/losses.h
+//                    "depth": 0, "mpi_depth": 0, "ssim": 0}, // not in the reference:
+//                                                           // training/losses.h
 //   "sampling": {"min_views": 2, "max_views": 8, "novel_views": 4, "window": 0,
 //                "crop": [0, 0],            // [height, width]; 0 = the whole image
 //                "zoom": [1.0],             // zoom factors >= 1, one drawn per sample

@@ -10,6 +10,9 @@
 //  depth                  not in the reference, off by default (weight 0): where the true depth
 //                         of the novel views is known (synthetic scenes), depthLoss of the
 //                         rendered depth and opacity against it
+//  mpi_depth              not in the reference, off by default: planeCrossEntropy (plane_loss.h)
+//  ssim                   not in the reference, off by default: ssimLossOfSignedImages of the
+//                         novel views
 // total = sum of weight * term over the terms with a positive weight.
 #include "simpli/model/generator/generator.h"
 #include "simpli/model/training/config.h"
@@ -48,6 +51,12 @@ ocl::Tensor resizeNearest(const ocl::Tensor& x, int64_t outH, int64_t outW);
 /// (A = 0) costs nothing.
 ocl::Tensor depthLoss(const ocl::Tensor& renderedDepth, const ocl::Tensor& renderedOpacity,
                       const ocl::Tensor& inverseDepth);
+
+/// 1 - SSIM of rendered and target images [N, 3, H, W] in [-1, 1], mapped to [0, 1] first: one
+/// minus the evaluation metric (metrics::ssim, 11 x 11 Gaussian window of sigma 1.5, valid
+/// windows), differentiable. Not masked by the rendered opacity: a render with a reference margin
+/// covers the novel views, and an uncovered pixel is an error the metric counts too.
+ocl::Tensor ssimLossOfSignedImages(const ocl::Tensor& rendered, const ocl::Tensor& target);
 
 /// novelColour [N, 3, H, W], novelOpacity [N, 1, H, W], novelTargets [N, 3, H, W],
 /// cleanSources [V, 3, H, W]; `output` must carry intermediateSourceRenders (keepIntermediates)
