@@ -33,12 +33,19 @@ void mixupSources(TrainingSample& sample, const SamplingConfig& config, TrainRan
   }
 }
 
+// Seeds of the augmentations' own streams: the sampler's state mixed with a golden-ratio or
+// SplitMix64 multiplier and a tag (ASCII "PHOTO", "SHARP") that keeps the two streams apart.
+// Changing any of them changes every run's gains or sharpening (and breaks bit-for-bit resume
+// of runs made before).
+constexpr uint64_t kGainMultiplier = 0x9E3779B97F4A7C15ULL, kGainTag = 0x50484f544fULL;
+constexpr uint64_t kSharpenMultiplier = 0xBF58476D1CE4E5B9ULL, kSharpenTag = 0x5348415250ULL;
+
 /// SamplingConfig::sourceExposureStd: the gains come from a stream seeded by the sampler's state
 /// after this sample's draws (read, not advanced), so the sample sequence is the same with or
 /// without the jitter and a resumed run draws the same gains.
 void jitterSourceGains(TrainingSample& s, const SamplingConfig& config,
                        const TrainRandom::State& state) {
-  TrainRandom random(state[0] ^ (state[1] * 0x9E3779B97F4A7C15ULL) ^ 0x50484f544fULL);
+  TrainRandom random(state[0] ^ (state[1] * kGainMultiplier) ^ kGainTag);
   for (io::Image& image : s.sources) {
     const double exposure = config.sourceExposureStd * random.normal();
     std::array<double, 3> gains{};
@@ -82,7 +89,7 @@ void unsharpMask(io::Image& image, double amount) {
 /// SamplingConfig::sharpenProbability: one amount for every view of the sample, drawn from the
 /// sampler's state after the frame and crop draws (read, not advanced).
 double drawSharpenAmount(const SamplingConfig& config, const TrainRandom::State& state) {
-  TrainRandom random(state[2] ^ (state[3] * 0xBF58476D1CE4E5B9ULL) ^ 0x5348415250ULL);
+  TrainRandom random(state[2] ^ (state[3] * kSharpenMultiplier) ^ kSharpenTag);
   if (!random.chance(config.sharpenProbability))
     return 0.0;
   return random.uniform(0.0, config.sharpenMax);
