@@ -13,19 +13,6 @@
 namespace simpli::ocl {
 namespace {
 
-std::vector<double> gaussianWindow(int size, double sigma) {
-  std::vector<double> w(static_cast<size_t>(size));
-  const int r = size / 2;
-  double sum = 0.0;
-  for (int i = 0; i < size; ++i) {
-    w[size_t(i)] = std::exp(-double(i - r) * double(i - r) / (2.0 * sigma * sigma));
-    sum += w[size_t(i)];
-  }
-  for (double& v : w)
-    v /= sum;
-  return w;
-}
-
 void checkSsimArguments(const Tensor& a, const Tensor& b, const SsimOptions& o) {
   if (!a.defined() || !b.defined())
     fail("ssimLoss: undefined ", !a.defined() ? "a" : "b");
@@ -48,10 +35,28 @@ void checkSsimArguments(const Tensor& a, const Tensor& b, const SsimOptions& o) 
 
 } // namespace
 
+std::vector<double> ssimWindow(int size, double sigma) {
+  if (size < 1 || size % 2 == 0)
+    fail("ssim: window size ", size, " must be odd and >= 1");
+  if (!(sigma > 0.0) || !std::isfinite(sigma))
+    fail("ssim: window sigma ", sigma, " must be finite and > 0");
+  std::vector<double> w(static_cast<size_t>(size));
+  const int r = size / 2;
+  double sum = 0.0;
+  for (int i = 0; i < size; ++i) {
+    const double d = i - r;
+    w[size_t(i)] = std::exp(-d * d / (2.0 * sigma * sigma));
+    sum += w[size_t(i)];
+  }
+  for (double& v : w)
+    v /= sum;
+  return w;
+}
+
 Tensor ssimLoss(const Tensor& a, const Tensor& b, const SsimOptions& options) {
   checkSsimArguments(a, b, options);
   const int64_t planes = a.size(0) * a.size(1), H = a.size(2), W = a.size(3);
-  const std::vector<double> win = gaussianWindow(options.windowSize, options.sigma);
+  const std::vector<double> win = ssimWindow(options.windowSize, options.sigma);
   const int n = options.windowSize;
   const Tensor down = Tensor::fromHost(win, {1, 1, n, 1}, a.dtype());
   const Tensor across = Tensor::fromHost(win, {1, 1, 1, n}, a.dtype());

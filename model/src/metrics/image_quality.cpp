@@ -6,6 +6,7 @@
 #include <cstddef>
 
 #include "simpli/error.h"
+#include "simpli/ocl/ops_loss.h"
 
 namespace simpli::metrics {
 
@@ -136,27 +137,9 @@ double psnr(const MetricImage& a, const MetricImage& b, double peak) {
   return 10.0 * std::log10(peak * peak / mse);
 }
 
-std::vector<double> ssimWindow1D(int windowSize, double sigma) {
-  if (windowSize < 1 || windowSize % 2 == 0)
-    fail("ssim: window size ", windowSize, " must be odd and >= 1");
-  if (!(sigma > 0.0) || !std::isfinite(sigma))
-    fail("ssim: window sigma ", sigma, " must be finite and > 0");
-  std::vector<double> w(static_cast<std::size_t>(windowSize));
-  const int r = windowSize / 2;
-  double sum = 0.0;
-  for (int i = 0; i < windowSize; ++i) {
-    const double d = i - r;
-    w[static_cast<std::size_t>(i)] = std::exp(-d * d / (2.0 * sigma * sigma));
-    sum += w[static_cast<std::size_t>(i)];
-  }
-  for (double& v : w)
-    v /= sum;
-  return w;
-}
-
 double ssim(const MetricImage& a, const MetricImage& b, const SSIMOptions& options) {
   checkPair(a, b, "ssim");
-  const std::vector<double> win = ssimWindow1D(options.windowSize, options.sigma);
+  const std::vector<double> win = ocl::ssimWindow(options.windowSize, options.sigma);
   if (a.width < options.windowSize || a.height < options.windowSize)
     fail("ssim: image ", a.width, " x ", a.height, " is smaller than the ", options.windowSize,
          " x ", options.windowSize, " window");

@@ -2,7 +2,6 @@
 #include "simpli/model/training/losses.h"
 
 #include "simpli/error.h"
-#include "simpli/model/metrics/image_quality.h"
 
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/ops_elementwise.h"
@@ -73,15 +72,8 @@ ocl::Tensor ssimLossOfSignedImages(const ocl::Tensor& rendered, const ocl::Tenso
   // Images are in [-1, 1]; the metric's SSIM reads [0, 1] (its luminance term is not
   // shift-invariant), so map them there first.
   auto toUnit = [](const ocl::Tensor& x) { return ocl::mulScalar(ocl::addScalar(x, 1.0), 0.5); };
-  // The metric's own window and constants, so that the term cannot drift from what eval reports.
-  const metrics::SSIMOptions metric;
-  ocl::SsimOptions options;
-  options.windowSize = metric.windowSize;
-  options.sigma = metric.sigma;
-  options.dataRange = metric.dataRange;
-  options.k1 = metric.k1;
-  options.k2 = metric.k2;
-  return ocl::ssimLoss(toUnit(rendered), toUnit(target), options);
+  // The default options are the metric's (metrics::SSIMOptions is ocl::SsimOptions).
+  return ocl::ssimLoss(toUnit(rendered), toUnit(target));
 }
 
 LossTerms computeLosses(const TrainingConfig& config, const generator::GeneratorOutput& output,

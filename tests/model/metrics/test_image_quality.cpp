@@ -152,7 +152,7 @@ TEST(Metrics, SsimOfConstantShiftOnlyDropsLuminance) {
   EXPECT_LT(s, 1.0);
   EXPECT_GT(s, 0.9);
   // The luminance term alone, from the window means.
-  const std::vector<double> g = metrics::ssimWindow1D(11, 1.5);
+  const std::vector<double> g = ocl::ssimWindow(11, 1.5);
   double sum = 0.0;
   int count = 0;
   for (int y = 5; y + 5 < a.height; ++y)
@@ -222,7 +222,7 @@ TEST(Metrics, SsimAveragesChannels) {
 }
 
 TEST(Metrics, SsimWindow) {
-  const std::vector<double> g = metrics::ssimWindow1D(11, 1.5);
+  const std::vector<double> g = ocl::ssimWindow(11, 1.5);
   ASSERT_EQ(g.size(), 11u);
   double sum = 0.0;
   for (double v : g)
@@ -340,8 +340,8 @@ TEST(Metrics, BadInput) {
   expectError([&] { metrics::centralCrop(0, 10); }, {"0 x 10"});
   expectError([&] { cropImage(a, {10, 0, 7, 4}); }, {"cropImage", "not inside", "16 x 16"});
   expectError([&] { metrics::psnr(a, a, 0.0); }, {"peak value 0"});
-  expectError([&] { metrics::ssimWindow1D(10, 1.5); }, {"window size 10"});
-  expectError([&] { metrics::ssimWindow1D(11, 0.0); }, {"sigma 0"});
+  expectError([&] { ocl::ssimWindow(10, 1.5); }, {"window size 10"});
+  expectError([&] { ocl::ssimWindow(11, 0.0); }, {"sigma 0"});
   expectError([&] { metrics::MetricImage(-1, 2, 3); }, {"MetricImage", "-1 x 2 x 3"});
   expectError([&] { metrics::evaluateImageQuality(metrics::MetricImage(), a); },
               {"evaluateImageQuality", "empty"});

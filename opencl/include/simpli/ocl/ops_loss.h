@@ -4,6 +4,8 @@
 // same dtype; shape mismatches throw naming the loss and the shapes.
 #include "simpli/ocl/tensor.h"
 
+#include <vector>
+
 namespace simpli::ocl {
 
 /// mean |a - b| over all elements (a, b of equal shape). The gradient of |0| is 0.
@@ -30,16 +32,21 @@ Tensor smoothLayersLoss(const Tensor& depth);
 /// The window and constants of SSIM (Wang et al. 2004): an n x n Gaussian window, and
 /// C1 = (k1 L)^2, C2 = (k2 L)^2 for data range L.
 struct SsimOptions {
-  int windowSize = 11;
-  double sigma = 1.5;
-  double dataRange = 1.0;
-  double k1 = 0.01;
-  double k2 = 0.03;
+  int windowSize = 11;    ///< odd, >= 1
+  double sigma = 1.5;     ///< Gaussian window standard deviation in pixels, > 0
+  double dataRange = 1.0; ///< L, the dynamic range of the values
+  double k1 = 0.01;       ///< C1 = (k1 L)^2
+  double k2 = 0.03;       ///< C2 = (k2 L)^2
 };
 
 /// 1 - SSIM of a and b [N, C, H, W] (not in the reference): the SSIM map over the valid windows
 /// (no padding; H and W at least the window) of every image and channel, averaged, as the
 /// evaluation metric computes it (metrics/image_quality.h). Differentiable in both inputs.
 Tensor ssimLoss(const Tensor& a, const Tensor& b, const SsimOptions& options = {});
+
+/// The normalised 1-D Gaussian window of SSIM: `size` taps (odd, >= 1) of exp(-d^2 / 2 sigma^2)
+/// about the centre, summing to 1. The separable 2-D window is its outer product; the metric
+/// (metrics/image_quality.h) uses the same taps, so loss and metric cannot drift apart.
+std::vector<double> ssimWindow(int size, double sigma);
 
 } // namespace simpli::ocl

@@ -23,6 +23,8 @@
 #include <limits>
 #include <vector>
 
+#include "simpli/ocl/ops_loss.h"
+
 #include "simpli/model/io/image.h"
 
 namespace simpli::metrics {
@@ -65,21 +67,13 @@ double meanSquaredError(const MetricImage& a, const MetricImage& b);
 /// 10 log10(peak^2 / MSE); +infinity when the images are identical.
 double psnr(const MetricImage& a, const MetricImage& b, double peak = 1.0);
 
-struct SSIMOptions {
-  int windowSize = 11;    ///< odd, >= 1
-  double sigma = 1.5;     ///< Gaussian window standard deviation in pixels, > 0
-  double k1 = 0.01;       ///< C1 = (k1 dataRange)^2
-  double k2 = 0.03;       ///< C2 = (k2 dataRange)^2
-  double dataRange = 1.0; ///< L, the dynamic range of the values
-};
+/// The window and constants of SSIM: the engine's, which the training term (ocl::ssimLoss) uses
+/// too, so the loss and the reported metric are one definition.
+using SSIMOptions = ocl::SsimOptions;
 
 /// Mean SSIM (see the header comment). Both images need at least windowSize pixels in each
 /// direction.
 double ssim(const MetricImage& a, const MetricImage& b, const SSIMOptions& options = {});
-
-/// The 1-D Gaussian weights of the SSIM window (size windowSize, sum 1); the 2-D window is
-/// their outer product.
-std::vector<double> ssimWindow1D(int windowSize, double sigma);
 
 struct ImageQuality {
   double psnr = 0.0;
