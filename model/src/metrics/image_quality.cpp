@@ -6,7 +6,6 @@
 #include <cstddef>
 
 #include "simpli/error.h"
-#include "simpli/ocl/ops_loss.h"
 
 namespace simpli::metrics {
 
