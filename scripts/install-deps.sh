@@ -24,9 +24,9 @@ packages=(
   libopenmpi-dev openmpi-bin
   # libraries
   libopencv-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libopenblas-dev
-  # tests (PyTorch only for the test of scripts/convert_reference_checkpoint.py; tinygltf reads
-  # the GLB export back)
-  libgtest-dev python3-torch libtinygltf-dev
+  # tests (PyTorch only for the test of scripts/convert_reference_checkpoint.py; NumPy for the
+  # weight scripts' tests; tinygltf reads the GLB export back)
+  libgtest-dev python3-torch python3-numpy libtinygltf-dev
 )
 
 bash "$(dirname "${BASH_SOURCE[0]}")/apt-install-missing.sh" install-deps "${packages[@]}"
