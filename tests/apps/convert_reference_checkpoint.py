@@ -23,26 +23,9 @@ import struct
 import subprocess
 import sys
 
+from script_test_support import fail, read_safetensors
+
 SKIP = 77  # ctest SKIP_RETURN_CODE
-
-
-def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
-
-
-def read_safetensors(path):
-    """({name: (dtype, shape, raw bytes)}, metadata) of a safetensors file."""
-    with open(path, "rb") as f:
-        n = struct.unpack("<Q", f.read(8))[0]
-        header = json.loads(f.read(n))
-        data = f.read()
-    metadata = header.pop("__metadata__", {})
-    tensors = {}
-    for name, entry in header.items():
-        begin, end = entry["data_offsets"]
-        tensors[name] = (entry["dtype"], entry["shape"], data[begin:end])
-    return tensors, metadata
 
 
 def run(command, expect_ok=True):

@@ -23,28 +23,18 @@ import sys
 
 import numpy as np
 
+from script_test_support import fail, read_safetensors
+
 CHANGED = ("planes_deformer_lvl1.anchor", "depth_decoder_lvl1.model.2.conv.weight",
            "depth_decoder_lvl1.model.2.conv.bias")
 DTYPES = {"F32": "<f4", "F64": "<f8"}
 
 
-def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
-
-
-def read_safetensors(path):
-    """({name: array}, metadata) of a safetensors file of F32/F64 tensors."""
-    with open(path, "rb") as f:
-        n = struct.unpack("<Q", f.read(8))[0]
-        header = json.loads(f.read(n))
-        data = f.read()
-    metadata = header.pop("__metadata__", {})
-    tensors = {}
-    for name, t in header.items():
-        begin, end = t["data_offsets"]
-        tensors[name] = np.frombuffer(data[begin:end], dtype=DTYPES[t["dtype"]]).reshape(t["shape"])
-    return tensors, metadata
+def read_arrays(path):
+    """({name: NumPy array}, metadata) of a safetensors file of F32/F64 tensors."""
+    tensors, metadata = read_safetensors(path)
+    return {name: np.frombuffer(raw, dtype=DTYPES[dtype]).reshape(shape)
+            for name, (dtype, shape, raw) in tensors.items()}, metadata
 
 
 def md5(path):
@@ -57,8 +47,8 @@ def convert(script, *args):
 
 
 def check_conversion(weights, out, configs):
-    src, _ = read_safetensors(weights)
-    dst, meta = read_safetensors(out)
+    src, _ = read_arrays(weights)
+    dst, meta = read_arrays(out)
     if sorted(src) != sorted(dst):
         fail(f"tensor names differ: {sorted(set(src) ^ set(dst))}")
     for name in src:
