@@ -36,10 +36,10 @@ try:
     # Progress and abort as the GUI sees them: the session's progress handler is what feeds
     # the GUI's progress bar (pqProgressManager); an abort sets the filter's AbortExecute.
     handler = servermanager.vtkProcessModule.GetProcessModule().GetSession().GetProgressHandler()
-    # The handler forwards at most one event per interval (wall time): forward them all, so
-    # what is checked does not depend on the machine's speed.
+    # The handler forwards at most one event per interval (wall time; ParaView clamps it to
+    # >= 0.01 s): at the smallest interval it forwards all but events closer than 10 ms.
     interval = handler.GetProgressInterval()
-    handler.SetProgressInterval(0)
+    handler.SetProgressInterval(0.01)
     aborted = pvs.SIMPLIBuildMLI(**settings)
     seen = []
 
@@ -67,15 +67,25 @@ try:
         "ProgressEvent",
         lambda obj, event: progress.append((obj.GetLastProgress(), obj.GetLastProgressText() or "")))
     build = pvs.SIMPLIBuildMLI(**settings)
+    # What the filter reports, every event (the builtin session's filter object): the whole
+    # range, in order. What the GUI sees is the part the handler forwards, which depends on
+    # timing (the meshes' last 10 % take a few ms): many events, in order, past the forward pass.
+    reported = []
+    filter_tag = build.GetClientSideObject().AddObserver(
+        "ProgressEvent", lambda obj, event: reported.append(obj.GetProgress()))
     build.UpdatePipeline()
+    build.GetClientSideObject().RemoveObserver(filter_tag)
     handler.RemoveObserver(tag)
     handler.SetProgressInterval(interval)
+    if len(reported) < 10 or reported[0] != 0 or reported[-1] != 1 or reported != sorted(reported):
+        problems.append(f"progress: the filter reported {len(reported)} events, {reported[:3]} .. "
+                        f"{reported[-3:]} (expected >= 10, increasing from 0 to 1)")
     ours = [p for p, text in progress if "SIMPLI" in text]
-    if len(ours) < 5 or max(ours) < 90 or ours != sorted(ours):
+    if len(ours) < 5 or max(ours) < 80 or ours != sorted(ours):
         problems.append(f"progress: the GUI saw {len(ours)} SIMPLI progress events, "
-                        f"{ours[:3]} .. {ours[-3:]} (expected >= 5, increasing, up to >= 90 %)")
-    log.write(f"progress: {len(ours)} events from {progress[0][1] if progress else '-'}, "
-              f"{ours[:1]} .. {ours[-1:]} %\n")
+                        f"{ours[:3]} .. {ours[-3:]} (expected >= 5, increasing, up to >= 80 %)")
+    log.write(f"progress: the filter reported {len(reported)} events, the GUI saw {len(ours)} from "
+              f"{progress[0][1] if progress else '-'}, {ours[:1]} .. {ours[-1:]} %\n")
     view = GetActiveViewOrCreate("RenderView")
     display = Show(build, view)
     Render(view)
