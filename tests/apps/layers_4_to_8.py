@@ -12,18 +12,17 @@
 
 Usage: layers_4_to_8.py SIMPLI SCRIPT WEIGHTS CONFIG_DIR SCENE WORKDIR
 """
-import hashlib
 import json
 import os
 import re
 import shutil
-import struct
 import subprocess
 import sys
 
 import numpy as np
 
-from script_test_support import fail, read_safetensors
+from script_test_support import (check_force_replaces, check_weights_script_errors, fail,
+                                 read_safetensors, run_script)
 
 CHANGED = ("planes_deformer_lvl1.anchor", "depth_decoder_lvl1.model.2.conv.weight",
            "depth_decoder_lvl1.model.2.conv.bias")
@@ -35,15 +34,6 @@ def read_arrays(path):
     tensors, metadata = read_safetensors(path)
     return {name: np.frombuffer(raw, dtype=DTYPES[dtype]).reshape(shape)
             for name, (dtype, shape, raw) in tensors.items()}, metadata
-
-
-def md5(path):
-    with open(path, "rb") as f:
-        return hashlib.md5(f.read()).hexdigest()
-
-
-def convert(script, *args):
-    return subprocess.run([sys.executable, script, *args], capture_output=True, text=True)
 
 
 def check_conversion(weights, out, configs):
@@ -97,46 +87,6 @@ def check_scores(simpli, weights, out, scene, work):
         fail(f"eval did not load an 8-layer network:\n{log}")
 
 
-def check_bad_input(script, weights, out, work):
-    in_sum, out_sum = md5(weights), md5(out)
-    text = os.path.join(work, "text.safetensors")
-    with open(text, "w") as f:
-        f.write("not weights")
-    truncated = os.path.join(work, "truncated.safetensors")
-    with open(weights, "rb") as f, open(truncated, "wb") as g:
-        data = f.read()  # the header whole, the tensors cut short
-        g.write(data[:8 + struct.unpack("<Q", data[:8])[0] + 1000])
-    cases = [  # name, args, message regex, file that must not appear
-        ("usage", [weights], r"usage: layers-4-to-8.py IN", None),
-        ("option", [weights, "--layers", "8"], r"usage:", None),
-        ("missing", ["/no/such.safetensors", f"{work}/m.safetensors"], r"/no/such.safetensors: not",
-         "m.safetensors"),
-        ("exists", [weights, out], r"already exists \(use --force", None),
-        ("same", [weights, weights, "--force"], r"is the input weights; refusing", None),
-        ("folder", [weights, work], r"is a folder", None),
-        ("parent", [weights, f"{work}/missing/w.safetensors"], r"missing does not exist", None),
-        ("eight", [out, f"{work}/e.safetensors"], r"num_layers 8.*expected 4", "e.safetensors"),
-        ("text", [text, f"{work}/t.safetensors"], r"text.safetensors: not simpli weights",
-         "t.safetensors"),
-        ("truncated", [truncated, f"{work}/c.safetensors"], r"truncated.safetensors: .*unreadable",
-         "c.safetensors"),
-    ]
-    for name, args, regex, unwritten in cases:
-        result = convert(script, *args)
-        message = result.stdout + result.stderr
-        if result.returncode != 1:
-            fail(f"{name}: exit {result.returncode}, expected 1:\n{message}")
-        if not re.search(regex, message) or "Traceback" in message:
-            fail(f"{name}: no error matching '{regex}':\n{message}")
-        if unwritten and os.path.exists(os.path.join(work, unwritten)):
-            fail(f"{name}: {unwritten} was written")
-    if md5(weights) != in_sum or md5(out) != out_sum:
-        fail("an input or an earlier output changed")
-    leftovers = [f for f in os.listdir(work) if f.endswith(".partial")]
-    if leftovers:
-        fail(f"partial files left: {leftovers}")
-
-
 def main():
     if len(sys.argv) != 7:
         fail("usage: layers_4_to_8.py SIMPLI SCRIPT WEIGHTS CONFIG_DIR SCENE WORKDIR")
@@ -144,16 +94,14 @@ def main():
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     out = os.path.join(work, "8l.safetensors")
-    result = convert(script, weights, out)
+    result = run_script(script, weights, out)
     if result.returncode != 0 or not os.path.isfile(out):
         fail(f"conversion exited {result.returncode}:\n{result.stdout}{result.stderr}")
     check_conversion(weights, out, configs)
     check_scores(simpli, weights, out, scene, work)
-    check_bad_input(script, weights, out, work)
-    os.utime(out, (0, 0))
-    result = convert(script, weights, out, "--force")
-    if result.returncode != 0 or os.stat(out).st_mtime == 0:
-        fail(f"--force did not replace the output:\n{result.stdout}{result.stderr}")
+    check_weights_script_errors(script, weights, out, work, extra_cases=[
+        ("eight", [out, f"{work}/e.safetensors"], r"num_layers 8.*expected 4", "e.safetensors")])
+    check_force_replaces(script, weights, out)
     check_conversion(weights, out, configs)
     print("PASS")
 
