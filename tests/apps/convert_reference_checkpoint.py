@@ -16,10 +16,8 @@ Usage: convert_reference_checkpoint.py SIMPLI CONVERTER SCENE WORKDIR
 """
 import collections
 import filecmp
-import json
 import os
 import shutil
-import struct
 import subprocess
 import sys
 
