@@ -96,6 +96,8 @@ void runBenchTrain(const BenchTrainOptions& o) {
     fail("--steps ", o.steps, ": must be >= 1");
   if (o.warmup < 0)
     fail("--warmup ", o.warmup, ": must be >= 0");
+  if (o.kernels < 1)
+    fail("--kernels ", o.kernels, ": must be >= 1");
   if (!o.baseline.empty() && o.baseline != "composed")
     fail("--baseline '", o.baseline,
          "': the one baseline is 'composed' (the view aggregation as "
@@ -211,8 +213,7 @@ void addBenchTrainCommand(CLI::App& bench) {
                   "Also time, step by step on the same samples, a baseline: 'composed' = the "
                   "view aggregation as composed ops (the step before the fused kernels)");
   cmd->add_option("--kernels", o->kernels, "Rows of the profiled step's per-kernel table")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->capture_default_str();
   cmd->callback([o] { runBenchTrain(*o); });
 }
 
