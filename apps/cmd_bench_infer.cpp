@@ -14,6 +14,7 @@
 
 #include "simpli/error.h"
 #include "simpli/model/generator/generator.h"
+#include "simpli/model/io/image_size.h"
 #include "simpli/model/scene/reference_camera.h"
 #include "simpli/ocl/autograd.h"
 #include "simpli/ocl/buffer_pool.h"
@@ -122,12 +123,9 @@ void runBenchInfer(const BenchInferOptions& o) {
     const auto [platform, device] = ocl::Device::parseSelector(o.device, "--device");
     ocl::Device::select(platform, device);
   }
-  int H = 0, W = 0;
-  char tail = 0;
-  if (std::sscanf(o.size.c_str(), "%dx%d%c", &W, &H, &tail) != 2 || H <= 0 || W <= 0)
-    fail("--size '", o.size, "': expected WIDTHxHEIGHT, e.g. 512x384");
-  if (H % 8 || W % 8)
-    fail("--size ", o.size, ": height and width must be multiples of 8");
+  // The generator's own requirement (multiples of 8), checked before any work.
+  const io::ImageSize size = io::parseImageSize(o.size, "--size", {8, 8192, 8});
+  const int W = size.width, H = size.height;
   if (o.repeat < 1)
     fail("--repeat must be at least 1, got ", o.repeat);
   if (o.views.empty())

@@ -32,6 +32,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "simpli/error.h"
+#include "simpli/model/io/image_size.h"
 #include "simpli/model/metrics/image_quality.h"
 #include "simpli/model/mli/files.h"
 #include "simpli/model/raster/render_adaptive.h"
@@ -403,13 +404,6 @@ std::string loadAverage() {
   return buf;
 }
 
-void parseSize(const std::string& size, int& W, int& H) {
-  char tail = 0;
-  if (std::sscanf(size.c_str(), "%dx%d%c", &W, &H, &tail) != 2 || W < 16 || H < 16 || W > 8192 ||
-      H > 8192)
-    fail("--size '", size, "': expected WIDTHxHEIGHT with both in 16..8192, e.g. 1024x768");
-}
-
 void validate(const BenchRenderOptions& o) {
   if (o.synthetic == !o.mli.empty())
     fail(o.synthetic ? "--synthetic and an MLI folder exclude each other"
@@ -434,8 +428,8 @@ void runBenchRender(BenchRenderOptions o) {
     o.maxSeconds = std::min(o.maxSeconds, 5.0);
   }
   validate(o);
-  int W = 0, H = 0;
-  parseSize(o.size, W, H);
+  const io::ImageSize size = io::parseImageSize(o.size, "--size", {16, 8192, 1});
+  const int W = size.width, H = size.height;
   if (!vtkrender::holdXDisplay())
     fail("bench render needs an X server (DISPLAY=",
          std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "unset",

@@ -3,6 +3,7 @@
 #include "commands.h"
 
 #include "simpli/error.h"
+#include "simpli/model/io/image_size.h"
 #include "simpli/model/io/staged_folder.h"
 #include "simpli/model/synthetic/photos.h"
 #include "simpli/model/synthetic/scene_writer.h"
@@ -15,7 +16,6 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <regex>
 #include <vector>
 
 namespace simpli::app {
@@ -36,26 +36,6 @@ struct MakeSceneOptions {
   bool force = false;
 };
 
-void parseSize(const std::string& text, int& width, int& height) {
-  std::smatch m;
-  static const std::regex pattern("^\\s*(-?[0-9]+)\\s*[xX]\\s*(-?[0-9]+)\\s*$");
-  if (!std::regex_match(text, m, pattern))
-    fail("--size '", text, "': expected WIDTHxHEIGHT in pixels, e.g. 192x128");
-  long long w = 0, h = 0;
-  try {
-    w = std::stoll(m[1].str());
-    h = std::stoll(m[2].str());
-  } catch (const std::exception&) {
-    fail("--size '", text, "': number out of range");
-  }
-  if (w <= 0 || h <= 0)
-    fail("--size '", text, "': width and height must be positive");
-  if (w > 16384 || h > 16384)
-    fail("--size '", text, "': width and height must be at most 16384");
-  width = int(w);
-  height = int(h);
-}
-
 void runMakeScene(const MakeSceneOptions& o) {
   using namespace synthetic;
   synthetic::SyntheticSceneParams p;
@@ -75,7 +55,9 @@ void runMakeScene(const MakeSceneOptions& o) {
   p.textures = synthetic::parseTextureSet(o.textures, "--textures");
   if (!o.photoDir.empty() && p.textures != synthetic::TextureSet::Photo)
     fail("--photo-dir '", o.photoDir, "': only with --textures photo");
-  parseSize(o.size, p.width, p.height);
+  const io::ImageSize size = io::parseImageSize(o.size, "--size");
+  p.width = size.width;
+  p.height = size.height;
   if (!o.objectSize.empty()) {
     if (p.style != synthetic::SceneStyle::World)
       fail("--object-size: only with --style world");

@@ -24,6 +24,7 @@
 #include "stop_signals.h"
 
 #include "simpli/error.h"
+#include "simpli/model/io/image_size.h"
 #include "simpli/model/io/staged_folder.h"
 #include "simpli/model/mli/files.h"
 #include "simpli/model/raster/render_mli.h"
@@ -69,24 +70,6 @@ constexpr int kMaxRenderFrames = 10000;
 /// on the device (about 6 bytes x 16 per pixel), so this bounds device memory to about 2 GiB;
 /// 4096 x 4096 at the default 16 fragments.
 constexpr long long kMaxRenderFragments = 4096LL * 4096LL * 16;
-
-void parseRenderSize(const std::string& text, int& width, int& height) {
-  std::smatch m;
-  static const std::regex pattern("^\\s*(-?[0-9]+)\\s*[xX]\\s*(-?[0-9]+)\\s*$");
-  if (!std::regex_match(text, m, pattern))
-    fail("--size '", text, "': expected WIDTHxHEIGHT in pixels, e.g. 192x128");
-  long long w = 0, h = 0;
-  try {
-    w = std::stoll(m[1].str());
-    h = std::stoll(m[2].str());
-  } catch (const std::exception&) {
-    fail("--size '", text, "': number out of range");
-  }
-  if (w <= 0 || h <= 0 || w > 16384 || h > 16384)
-    fail("--size '", text, "': width and height must be in 1..16384");
-  width = int(w);
-  height = int(h);
-}
 
 /// render.json's mark of a folder written by `simpli render`.
 constexpr const char* kWrittenByKey = "written_by";
@@ -200,9 +183,10 @@ int runRender(const RenderOptions& o) {
     fail("--depth-scale ", o.depthScale, ": must be finite and > 0");
   if (o.maxFragments < 1 || o.maxFragments > 64)
     fail("--max-fragments ", o.maxFragments, ": must be in 1..64");
-  int width = 0, height = 0;
+  io::ImageSize size; // 0 x 0: each camera's own size
   if (!o.size.empty())
-    parseRenderSize(o.size, width, height);
+    size = io::parseImageSize(o.size, "--size");
+  const int width = size.width, height = size.height;
   scene::TrajectoryOptions traj;
   if (!o.trajectory.empty()) {
     try {

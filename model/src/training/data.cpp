@@ -2,6 +2,7 @@
 #include "simpli/model/training/data.h"
 
 #include "simpli/error.h"
+#include "simpli/model/io/image_size.h"
 #include "simpli/model/scene/scene_folders.h"
 #include "simpli/model/synthetic/photos.h"
 #include "simpli/model/synthetic/procedural_source.h"
@@ -266,14 +267,9 @@ std::unique_ptr<TrainingData> openTrainingData(const std::vector<DataSource>& so
 }
 
 void parseWidthHeight(const std::string& text, const std::string& what, int& width, int& height) {
-  static const std::regex pattern("^\\s*([0-9]{1,6})\\s*[xX]\\s*([0-9]{1,6})\\s*$");
-  std::smatch m;
-  if (!std::regex_match(text, m, pattern))
-    fail(what, " '", text, "': expected WIDTHxHEIGHT in pixels, e.g. 192x128");
-  width = std::stoi(m[1].str());
-  height = std::stoi(m[2].str());
-  if (height < 16 || width < 16 || height % 16 != 0 || width % 16 != 0)
-    fail(what, " '", text, "': height and width must be positive multiples of 16");
+  const io::ImageSize size = io::parseImageSize(text, what, {16, 16384, 16});
+  width = size.width;
+  height = size.height;
 }
 
 std::unique_ptr<TrainingData> openTrainingData(const std::string& spec, const DataOptions& o) {

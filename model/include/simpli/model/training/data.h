@@ -81,8 +81,8 @@ std::unique_ptr<TrainingData> openTrainingData(const std::vector<DataSource>& so
 std::unique_ptr<TrainingData> openTrainingData(const std::string& spec,
                                                const DataOptions& options = {});
 
-/// "WxH" (e.g. "192x128", as every simpli --size) -> width, height, both positive multiples
-/// of 16; `what` names the option in errors.
+/// "WxH" (e.g. "192x128"; io::parseImageSize) -> width, height: what the network trains and
+/// evaluates on, both multiples of 16 in 16..16384; `what` names the option in errors.
 void parseWidthHeight(const std::string& text, const std::string& what, int& width, int& height);
 
 } // namespace simpli::training
