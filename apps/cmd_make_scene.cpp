@@ -33,6 +33,7 @@ struct MakeSceneOptions {
   std::string textures = "procedural";
   std::string photoDir;
   std::vector<double> objectSize; ///< world style: MIN,MAX occluder width / image width
+  std::vector<int> bushes;        ///< world style: MIN,MAX leaf clusters per scene
   bool force = false;
 };
 
@@ -70,6 +71,18 @@ void runMakeScene(const MakeSceneOptions& o) {
            " <= MIN <= MAX <= ", World::kObjectSizeHigh, " (x the image width)");
     p.world.objectSizeMin = low;
     p.world.objectSizeMax = high;
+  }
+  if (!o.bushes.empty()) {
+    if (p.style != synthetic::SceneStyle::World)
+      fail("--bushes: only with --style world");
+    if (o.bushes.size() != 2)
+      fail("--bushes: expected MIN,MAX (two counts), got ", o.bushes.size());
+    const int low = o.bushes[0], high = o.bushes[1];
+    const int most = synthetic::WorldStyleParams::kBushesHigh;
+    if (!(low >= 0 && low <= high && high <= most))
+      fail("--bushes ", low, ",", high, ": need 0 <= MIN <= MAX <= ", most);
+    p.world.bushesMin = low;
+    p.world.bushesMax = high;
   }
   p.validate(); // the remaining limits (e.g. views <= 10000), named by field
   io::checkOutputLocation(o.out, "--out");
@@ -169,6 +182,11 @@ void addMakeSceneCommand(CLI::App& app) {
                   "With --style world: MIN,MAX apparent width of the occluders / image width, "
                   "log-uniform (default 0.08,0.6; dense small clutter: e.g. 0.03,0.2 with "
                   "--objects 40)")
+      ->delimiter(',')
+      ->expected(1, 2);
+  cmd->add_option("--bushes", opts->bushes,
+                  "With --style world: MIN,MAX bushes per scene, uniform (clusters of 20 .. 60 "
+                  "small leaves at one depth; default 0,0)")
       ->delimiter(',')
       ->expected(1, 2);
   cmd->add_flag("--force", opts->force, "Replace DIR if it holds a scene written by make-scene");

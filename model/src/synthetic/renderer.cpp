@@ -91,7 +91,8 @@ std::vector<int> shapesThroughWindow(const SyntheticScene& scene, const scene::C
 Eigen::Vector3d shadeHit(const SyntheticScene& scene, const SurfaceHit& hit) {
   const Shape& s = scene.shape(hit.shape);
   double lambert = hit.normal.dot(scene.lightDirection);
-  const bool twoSided = s.kind == ShapeKind::Plane || s.kind == ShapeKind::Rectangle;
+  const bool twoSided =
+      s.kind == ShapeKind::Plane || s.kind == ShapeKind::Rectangle || s.kind == ShapeKind::Leaf;
   lambert = twoSided ? std::abs(lambert) : std::max(0.0, lambert);
   return s.texture.evaluate(hit.st) * (0.55 + 0.45 * lambert);
 }

@@ -107,6 +107,7 @@ Shape makeObjectShape(ShapeRole role, double scale, double pixel, Random& rng) {
   case ShapeRole::Distant:
   case ShapeRole::Post:
   case ShapeRole::Branch:
+  case ShapeRole::Leaf:
     fail("makeObjectShape: role '", toString(role), "' is not made here");
   }
   return s;
@@ -253,6 +254,8 @@ void SyntheticSceneParams::validate() const {
                WorldStyleParams::kObjectSizeHigh);
     checkRange("world.thinStructuresMin", w.thinStructuresMin, 0, 100);
     checkRange("world.thinStructuresMax", w.thinStructuresMax, w.thinStructuresMin, 100);
+    checkRange("world.bushesMin", w.bushesMin, 0, WorldStyleParams::kBushesHigh);
+    checkRange("world.bushesMax", w.bushesMax, w.bushesMin, WorldStyleParams::kBushesHigh);
     // Without sky the far plane (slanted up to kWorldMaxSlant) must fill every view, as below.
     SyntheticSceneParams widest = *this;
     widest.fovDegrees = w.fovDegreesMax;

@@ -25,6 +25,7 @@ enum Stream : uint64_t {
   kPhotoTextures = 9,
   kSky = 10,
   kThin = 11,
+  kBushes = 12,
 };
 
 /// Ry(yaw) Rx(pitch) Rz(roll).

@@ -221,6 +221,53 @@ std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
        " in front of the far layer");
 }
 
+// Bush j: 20 .. 60 pointed leaves (3 .. 10 % of the image width long, a quarter to half as wide)
+// scattered through a flattened ball 8 .. 25 % of the width across (dense: they cover most of it),
+// each turned up to 60 degrees about both image axes and any angle in its plane; the nearest leaf
+// at a disparity-uniform depth.
+std::vector<Shape> placeBush(const Placement& where, int index, Random& rng) {
+  const SyntheticSceneParams& p = where.p;
+  const int leaves = rng.uniformInt(20, 60);
+  for (int attempt = 0; attempt < 200; ++attempt) {
+    const double z = where.depth(rng);
+    const double unitsPerWidth = z / p.fx(); // scene units across the image at depth z
+    const double radius = 0.5 * unitsPerWidth * rng.uniform(0.08, 0.25);
+    const double u = rng.uniform(0.0, 1.0), v = rng.uniform(0.0, 1.0);
+    std::vector<Shape> parts;
+    for (int k = 0; k < leaves; ++k) {
+      Shape leaf;
+      leaf.kind = ShapeKind::Leaf;
+      leaf.role = ShapeRole::Leaf;
+      leaf.axes = rotation(rng.uniform(-60, 60) * kDeg, rng.uniform(-60, 60) * kDeg,
+                           rng.uniform(-180, 180) * kDeg);
+      const double half = 0.5 * unitsPerWidth * rng.uniform(0.03, 0.10);
+      leaf.size = Eigen::Vector3d(half, half * rng.uniform(0.25, 0.5), 0);
+      Eigen::Vector3d offset;
+      do
+        offset = Eigen::Vector3d(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+      while (offset.squaredNorm() > 1);
+      leaf.centre = radius * Eigen::Vector3d(offset.x(), offset.y(), 0.5 * offset.z());
+      parts.push_back(leaf);
+    }
+    // Put the bush on the ray through (u, v) so that its nearest point is at depth z.
+    double front = std::numeric_limits<double>::infinity();
+    for (const Shape& part : parts)
+      front = std::min(front, part.centre.z() - part.extent(-Eigen::Vector3d::UnitZ()));
+    const Eigen::Vector3d ray((u - 0.5) / p.fx(), (v - 0.5) / p.fy(), 1.0);
+    const Eigen::Vector3d shift = ray * z - Eigen::Vector3d(0, 0, front);
+    bool ok = true;
+    for (Shape& part : parts) {
+      part.centre += shift;
+      part.texture = randomTexture(rng, pixelAt(p, part.centre.z()), 2, 12);
+      ok = ok && where.clear(part);
+    }
+    if (ok)
+      return parts;
+  }
+  fail("synthetic world scene (seed ", p.seed, "): cannot place bush ", index,
+       " in front of the far layer");
+}
+
 } // namespace
 
 SyntheticScene generateWorldScene(const SyntheticSceneParams& params) {
@@ -274,6 +321,14 @@ SyntheticScene generateWorldScene(const SyntheticSceneParams& params) {
     Random rng(deriveSeed(deriveSeed(p.seed, kThin), uint64_t(j) + 1));
     for (Shape& part : placeThin(where, j, rng))
       objects.push_back(std::move(part));
+  }
+
+  Random bushCount(deriveSeed(p.seed, kBushes));
+  const int bushes = bushCount.uniformInt(w.bushesMin, w.bushesMax);
+  for (int j = 0; j < bushes; ++j) {
+    Random rng(deriveSeed(deriveSeed(p.seed, kBushes), uint64_t(j) + 1));
+    for (Shape& leaf : placeBush(where, j, rng))
+      objects.push_back(std::move(leaf));
   }
 
   // Photo textures, upright on the walls and fronto-parallel planes.

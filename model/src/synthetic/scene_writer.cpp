@@ -107,6 +107,8 @@ std::string commandFor(const SyntheticSceneParams& p) {
     command +=
         " --object-size " + shortestText(w.objectSizeMin) + "," + shortestText(w.objectSizeMax);
   }
+  if (p.style == SceneStyle::World && (w.bushesMin != dw.bushesMin || w.bushesMax != dw.bushesMax))
+    command += " --bushes " + std::to_string(w.bushesMin) + "," + std::to_string(w.bushesMax);
   if (p.textures != TextureSet::Procedural)
     command +=
         " --textures " + std::string(toString(p.textures)) +
@@ -175,6 +177,8 @@ std::string sceneDescriptionJson(const SyntheticScene& scene,
     if (w.objectSizeMin != WorldStyleParams{}.objectSizeMin ||
         w.objectSizeMax != WorldStyleParams{}.objectSizeMax)
       j["params"]["world"]["object_size"] = {w.objectSizeMin, w.objectSizeMax};
+    if (w.bushesMin != WorldStyleParams{}.bushesMin || w.bushesMax != WorldStyleParams{}.bushesMax)
+      j["params"]["world"]["bushes"] = {w.bushesMin, w.bushesMax};
     const WorldLayout& l = scene.world;
     j["world"] = {{"fov_degrees", l.fovDegrees},
                   {"far_depth", l.farDepth},

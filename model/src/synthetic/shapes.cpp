@@ -21,6 +21,8 @@ const char* toString(ShapeKind kind) {
     return "sphere";
   case ShapeKind::Cylinder:
     return "cylinder";
+  case ShapeKind::Leaf:
+    return "leaf";
   }
   return "?";
 }
@@ -47,6 +49,8 @@ const char* toString(ShapeRole role) {
     return "post";
   case ShapeRole::Branch:
     return "branch";
+  case ShapeRole::Leaf:
+    return "leaf";
   }
   return "?";
 }
@@ -101,6 +105,23 @@ bool quadraticHit(double a, double b, double c, double tMin, double tMax, double
   return false;
 }
 
+// Whether local (x, y) lies on a leaf of half length a and half width b.
+bool insideLeaf(double x, double y, double a, double b) {
+  const double r = x / a;
+  return std::abs(r) <= 1 && std::abs(y) <= b * (1 - r * r);
+}
+
+// max over the leaf of (lx, ly) . (x, y): on the upper edge y = b (1 - x^2 / a^2) (the leaf is
+// symmetric in y, so |ly| serves both edges), where the derivative lx - 2 b |ly| x / a^2 vanishes,
+// or at a tip.
+double leafSupport(double lx, double ly, double a, double b) {
+  const double c = std::abs(ly);
+  if (c * b <= 1e-300) // a segment along x
+    return std::abs(lx) * a;
+  const double x = std::max(-a, std::min(a, lx * a * a / (2 * b * c)));
+  return lx * x + c * b * (1 - x * x / (a * a));
+}
+
 } // namespace
 
 bool Shape::intersect(const Ray& ray, double tMin, SurfaceHit& hit) const {
@@ -113,11 +134,14 @@ bool Shape::intersect(const Ray& ray, double tMin, SurfaceHit& hit) const {
 
   switch (kind) {
   case ShapeKind::Plane:
-  case ShapeKind::Rectangle: {
+  case ShapeKind::Rectangle:
+  case ShapeKind::Leaf: {
     if (!planeHit(o, d, tMin, tMax, t))
       return false;
     const Eigen::Vector3d p = o + t * d;
     if (kind == ShapeKind::Rectangle && (std::abs(p.x()) > size.x() || std::abs(p.y()) > size.y()))
+      return false;
+    if (kind == ShapeKind::Leaf && !insideLeaf(p.x(), p.y(), size.x(), size.y()))
       return false;
     st = {p.x(), p.y()};
     nLocal = Eigen::Vector3d::UnitZ();
@@ -228,6 +252,8 @@ double Shape::boundingRadius() const {
     return size.x();
   case ShapeKind::Cylinder:
     return std::hypot(size.x(), size.z());
+  case ShapeKind::Leaf: // |p|^2 = a^2 s + b^2 (1 - s)^2 with s = x^2 / a^2: largest at s = 0 or 1
+    return std::max(size.x(), size.y());
   }
   return std::numeric_limits<double>::infinity();
 }
@@ -246,6 +272,8 @@ double Shape::extent(const Eigen::Vector3d& dir) const {
     return size.x() * l.norm();
   case ShapeKind::Cylinder: // the end discs reach r * |dir component across the axis|
     return std::abs(l.z()) * size.z() + size.x() * std::hypot(l.x(), l.y());
+  case ShapeKind::Leaf:
+    return leafSupport(l.x(), l.y(), size.x(), size.y());
   }
   return std::numeric_limits<double>::infinity();
 }

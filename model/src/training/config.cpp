@@ -75,6 +75,13 @@ void readSynthetic(const json& object, const std::string& source, SyntheticConfi
   f.readInteger("antialias", out.antialias);
   f.readPair("translation", out.translationMin, out.translationMax);
   f.readPair("object_size", out.objectSizeMin, out.objectSizeMax);
+  double bushesMin = out.bushesMin, bushesMax = out.bushesMax;
+  f.readPair("bushes", bushesMin, bushesMax);
+  if (bushesMin != std::floor(bushesMin) || bushesMax != std::floor(bushesMax) ||
+      !(std::abs(bushesMin) <= 1e9 && std::abs(bushesMax) <= 1e9))
+    fail(named("bushes"), " = [", bushesMin, ", ", bushesMax, "]: expected integers");
+  out.bushesMin = int(bushesMin);
+  out.bushesMax = int(bushesMax);
   const std::string size = stringField(f, "size", "");
   if (!size.empty())
     parseWidthHeight(size, named("size"), out.width, out.height);
@@ -206,6 +213,9 @@ void TrainingConfig::validate(const std::string& source) const {
     fail(source, ": field \"synthetic.object_size\" = [", y.objectSizeMin, ", ", y.objectSizeMax,
          "]: need ", World::kObjectSizeLow, " <= low <= high <= ", World::kObjectSizeHigh,
          " (x the image width)");
+  if (!(y.bushesMin >= 0 && y.bushesMin <= y.bushesMax && y.bushesMax <= World::kBushesHigh))
+    fail(source, ": field \"synthetic.bushes\" = [", y.bushesMin, ", ", y.bushesMax,
+         "]: need 0 <= low <= high <= ", World::kBushesHigh);
   if ((y.width == 0) != (y.height == 0) || y.width % 16 != 0 || y.height % 16 != 0 || y.width < 0 ||
       y.height < 0)
     fail(source, ": field \"synthetic.size\" = \"", y.width, "x", y.height,
@@ -334,6 +344,7 @@ std::string toJson(const TrainingConfig& c) {
                        {"antialias", y.antialias},
                        {"translation", {y.translationMin, y.translationMax}},
                        {"object_size", {y.objectSizeMin, y.objectSizeMax}},
+                       {"bushes", {y.bushesMin, y.bushesMax}},
                        {"size", y.width > 0
                                     ? std::to_string(y.width) + "x" + std::to_string(y.height)
                                     : std::string()}};

@@ -133,6 +133,8 @@ private:
     p.world.translationMax = c.translationMax;
     p.world.objectSizeMin = c.objectSizeMin;
     p.world.objectSizeMax = c.objectSizeMax;
+    p.world.bushesMin = c.bushesMin;
+    p.world.bushesMax = c.bushesMax;
     if (c.height > 0 && c.width > 0) {
       p.height = c.height;
       p.width = c.width;

@@ -204,6 +204,50 @@ TEST(WorldStyle, ObjectSizeBoundsTheOccluders) {
   EXPECT_GT(*std::max_element(wide.begin(), wide.end()), 0.2);
 }
 
+// world.bushes adds clusters of 20 .. 60 small leaves in front of the far layer, which the
+// cameras see: a share of the first view's pixels lands on leaves. The default has none, and
+// its scenes are unchanged by the option's existence (their own stream).
+TEST(WorldStyle, BushesAreClustersOfSmallLeaves) {
+  int scenesWithLeafPixels = 0;
+  for (uint64_t seed = 0; seed < 8; ++seed) {
+    SyntheticSceneParams p = worldParams(seed);
+    const SyntheticScene plain = generateSyntheticScene(p);
+    p.world.bushesMin = 2;
+    p.world.bushesMax = 2;
+    const SyntheticScene s = generateSyntheticScene(p);
+    for (const Shape& o : plain.objects)
+      EXPECT_NE(o.role, ShapeRole::Leaf);
+    int leaves = 0;
+    const double fx = 0.5 / std::tan(0.5 * s.world.fovDegrees * kDeg);
+    for (size_t i = 0; i < s.objects.size(); ++i) {
+      const Shape& o = s.objects[i];
+      if (o.role != ShapeRole::Leaf) {
+        ASSERT_LT(i, plain.objects.size());
+        EXPECT_EQ(o.centre, plain.objects[i].centre) << "seed " << seed;
+        continue;
+      }
+      ++leaves;
+      EXPECT_EQ(o.kind, ShapeKind::Leaf);
+      const double length = 2 * o.size.x() * fx / o.centre.z(); // / image width
+      EXPECT_GE(length, 0.03 * 0.6) << "seed " << seed; // leaves behind the bush front look smaller
+      EXPECT_LE(length, 0.10 * (1 + 1e-9)) << "seed " << seed;
+      EXPECT_GE(o.size.y(), 0.25 * o.size.x() * (1 - 1e-9));
+      EXPECT_LE(o.size.y(), 0.5 * o.size.x() * (1 + 1e-9));
+      EXPECT_GE(o.centre.z() - o.extent(-Vector3d::UnitZ()), s.params.nearDepth * (1 - 1e-9));
+      EXPECT_LT(o.centre.z(), s.world.farDepth);
+    }
+    EXPECT_GE(leaves, 40) << "seed " << seed;
+    EXPECT_LE(leaves, 120) << "seed " << seed;
+    const RenderedView v = renderView(s, 0);
+    const RenderedView w = renderView(plain, 0);
+    size_t changed = 0;
+    for (size_t i = 0; i < v.depth.size(); ++i)
+      changed += v.depth[i] != w.depth[i];
+    scenesWithLeafPixels += changed > 0;
+  }
+  EXPECT_GE(scenesWithLeafPixels, 6);
+}
+
 TEST(WorldStyle, DeterministicPerSeed) {
   const SyntheticSceneParams p = worldParams(11);
   const SyntheticScene a = generateSyntheticScene(p), b = generateSyntheticScene(p);
@@ -258,6 +302,9 @@ TEST(WorldStyle, ParamsValidated) {
   bad([](auto& p) { p.world.objectSizeMin = 0.001; }, {"'world.objectSizeMin' is 0.001"});
   bad([](auto& p) { p.world.objectSizeMax = 0.05; }, {"'world.objectSizeMax' is 0.05"});
   bad([](auto& p) { p.world.objectSizeMax = 1.5; }, {"'world.objectSizeMax' is 1.5"});
+  bad([](auto& p) { p.world.bushesMin = -1; }, {"'world.bushesMin' is -1"});
+  bad([](auto& p) { p.world.bushesMax = 51; }, {"'world.bushesMax' is 51"});
+  bad([](auto& p) { p.world.bushesMin = 3, p.world.bushesMax = 2; }, {"'world.bushesMax' is 2"});
   bad([](auto& p) { p.height = 4000; }, {"far plane could be missed"});
   SyntheticSceneParams sky = worldParams(0, 64, 4000);
   sky.world.skyProbability = 1.0; // every ray that misses sees the sky: no such limit

@@ -121,6 +121,39 @@ TEST(SyntheticShapes, RectangleHitsInsideOnly) {
   EXPECT_EQ(nearer.t, 4.0);
 }
 
+TEST(SyntheticShapes, LeafHitsBetweenItsParabolas) {
+  // Half length 2, half width 0.5 at depth 5, turned 90 degrees in its plane: its long axis is
+  // the image's y. Edge: |x| <= 0.5 (1 - (y / 2)^2) in camera coordinates.
+  Shape leaf;
+  leaf.kind = ShapeKind::Leaf;
+  leaf.centre = Vector3d(0, 0, 5);
+  leaf.axes = Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitZ()).toRotationMatrix();
+  leaf.size = Vector3d(2, 0.5, 0);
+  auto hits = [&](double x, double y) {
+    SurfaceHit h;
+    return leaf.intersect({Vector3d::Zero(), Vector3d(x / 5, y / 5, 1)}, 1e-9, h);
+  };
+  SurfaceHit hit;
+  ASSERT_TRUE(leaf.intersect({Vector3d::Zero(), Vector3d(0.02, 0.1, 1)}, 1e-9, hit));
+  EXPECT_DOUBLE_EQ(hit.t, 5.0);
+  EXPECT_TRUE(hit.st.isApprox(Vector2d(0.5, -0.1))); // local x along the image's y
+  // At y = 1 the edge is at |x| = 0.375; at the tips (|y| = 2) the width is zero.
+  EXPECT_TRUE(hits(0.37, 1.0));
+  EXPECT_TRUE(hits(-0.37, -1.0));
+  EXPECT_FALSE(hits(0.38, 1.0));
+  EXPECT_FALSE(hits(-0.38, -1.0));
+  EXPECT_TRUE(hits(0.0, 1.99));
+  EXPECT_FALSE(hits(0.0, 2.01));
+  EXPECT_FALSE(hits(0.05, 1.99));
+  // The rectangle of the same size would hold (0.45, 1): the leaf does not.
+  EXPECT_FALSE(hits(0.45, 1.0));
+  EXPECT_EQ(leaf.boundingRadius(), 2.0);
+  // Its support across the long axis is its half width, along it the half length.
+  EXPECT_NEAR(leaf.extent(Vector3d::UnitX()), 0.5, 1e-12);
+  EXPECT_NEAR(leaf.extent(-Vector3d::UnitY()), 2.0, 1e-12);
+  EXPECT_NEAR(leaf.extent(Vector3d::UnitZ()), 0.0, 1e-12);
+}
+
 TEST(SyntheticShapes, SphereBoxCylinderAnalyticHits) {
   Shape sphere;
   sphere.kind = ShapeKind::Sphere;
@@ -175,9 +208,9 @@ TEST(SyntheticShapes, SphereBoxCylinderAnalyticHits) {
 
 TEST(SyntheticShapes, ExtentIsTheSupportFunction) {
   simpli::synthetic::Random rng(3);
-  for (int k = 0; k < 20; ++k) {
+  for (int k = 0; k < 25; ++k) {
     Shape s;
-    s.kind = ShapeKind(1 + k % 4); // rectangle, box, sphere, cylinder
+    s.kind = ShapeKind(1 + k % 5); // rectangle, box, sphere, cylinder, leaf
     s.centre = Vector3d(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(3, 5));
     s.axes = (Eigen::AngleAxisd(rng.uniform(0, 3), Vector3d::UnitY()) *
               Eigen::AngleAxisd(rng.uniform(0, 3), Vector3d::UnitX()))
@@ -187,15 +220,18 @@ TEST(SyntheticShapes, ExtentIsTheSupportFunction) {
       s.size = Vector3d::Constant(s.size.x());
     const Vector3d dir = Vector3d(rng.normal(), rng.normal(), rng.normal()).normalized();
     // Brute force: rays from far along dir towards the centre, offset across; the largest
-    // dir-coordinate of the hits approaches the support value from below.
+    // dir-coordinate of the hits approaches the support value from below. A flat shape seen
+    // edge-on along dir shows a sliver those rays can miss: it is scanned along its normal.
+    const bool flat = s.kind == ShapeKind::Rectangle || s.kind == ShapeKind::Leaf;
+    const Vector3d view = flat ? Vector3d(s.axes.col(2)) : dir;
     const Eigen::Matrix3d frame = frameFromAxis(
-        -dir, dir.cross(Vector3d::UnitX()).norm() > 0.1 ? Vector3d::UnitX() : Vector3d::UnitY());
+        -view, view.cross(Vector3d::UnitX()).norm() > 0.1 ? Vector3d::UnitX() : Vector3d::UnitY());
     double best = -1e9;
     const int n = 120;
     for (int i = 0; i <= n; ++i)
       for (int j = 0; j <= n; ++j) {
         const double a = 2.0 * (i - n / 2) / n * 2.0, b = 2.0 * (j - n / 2) / n * 2.0;
-        Ray ray{s.centre + 10.0 * dir + a * frame.col(0) + b * frame.col(1), -dir};
+        Ray ray{s.centre + 10.0 * view + a * frame.col(0) + b * frame.col(1), -view};
         SurfaceHit h;
         if (s.intersect(ray, 1e-9, h))
           best = std::max(best, dir.dot(ray.origin + h.t * ray.direction - s.centre));

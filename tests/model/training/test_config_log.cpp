@@ -193,7 +193,8 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
           "synthetic": {"style": "world", "textures": "photo", "photo_probability": 0.5,
                         "photo_dir": "/photos", "photos_required": false, "views": 16,
                         "objects": 5, "antialias": 2, "size": "256x192",
-                        "translation": [0.1, 0.45], "object_size": [0.03, 0.2]}})",
+                        "translation": [0.1, 0.45], "object_size": [0.03, 0.2],
+                        "bushes": [1, 3]}})",
       "t.json", "");
   EXPECT_EQ(c.synthetic.style, synthetic::SceneStyle::World);
   EXPECT_EQ(c.synthetic.textures, synthetic::TextureSet::Photo);
@@ -209,6 +210,10 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_DOUBLE_EQ(c.synthetic.translationMax, 0.45);
   EXPECT_DOUBLE_EQ(c.synthetic.objectSizeMin, 0.03);
   EXPECT_DOUBLE_EQ(c.synthetic.objectSizeMax, 0.2);
+  EXPECT_EQ(c.synthetic.bushesMin, 1);
+  EXPECT_EQ(c.synthetic.bushesMax, 3);
+  EXPECT_EQ(d.synthetic.bushesMin, 0);
+  EXPECT_EQ(d.synthetic.bushesMax, 0);
   const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
   EXPECT_EQ(toJson(back), toJson(c));
   EXPECT_EQ(toJson(parseTrainingConfig(toJson(d), "back", "")), toJson(d));
@@ -222,6 +227,9 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
   other = c;
   other.synthetic.objectSizeMax = 0.6;
+  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
+  other = c;
+  other.synthetic.bushesMax = 2;
   EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
 }
 
@@ -263,6 +271,13 @@ TEST(TrainConfig, SyntheticSectionBadFieldsAreNamed) {
   expectError(parse(R"({"object_size": [0.1, 1.5]})"),
               {"w.json", "\"synthetic.object_size\" = [0.1, 1.5]", "x the image width"});
   expectError(parse(R"({"object_size": 0.1})"), {"w.json", "object_size"});
+  expectError(parse(R"({"bushes": [3, 1]})"),
+              {"w.json", "\"synthetic.bushes\" = [3, 1]", "low <= high"});
+  expectError(parse(R"({"bushes": [-1, 2]})"), {"w.json", "\"synthetic.bushes\" = [-1, 2]"});
+  expectError(parse(R"({"bushes": [1, 51]})"), {"w.json", "\"synthetic.bushes\" = [1, 51]", "50"});
+  expectError(parse(R"({"bushes": [1, 2.5]})"),
+              {"w.json", "\"synthetic.bushes\" = [1, 2.5]", "integers"});
+  expectError(parse(R"({"bushes": 2})"), {"w.json", "bushes"});
   expectError(parse(R"("world")"), {"w.json", "synthetic"});
 }
 

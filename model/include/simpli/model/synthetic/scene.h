@@ -62,6 +62,12 @@ struct WorldStyleParams {
   /// What validate() accepts for the object size range (training configs check the same).
   static constexpr double kObjectSizeLow = 0.005, kObjectSizeHigh = 1.0;
   int thinStructuresMin = 1, thinStructuresMax = 4; ///< poles, posts, wires, branches
+  /// Bushes per scene, uniform: clusters of 20 .. 60 small pointed leaves (Leaf shapes, 3 .. 10 %
+  /// of the image width long, turned up to 60 degrees about both image axes) around a point at a
+  /// disparity-uniform depth. Foliage as in LLFF flower: many small surfaces at many depths and
+  /// slants, whose edges cross each other (the default scenes' few large occluders do not).
+  int bushesMin = 0, bushesMax = 0;
+  static constexpr int kBushesHigh = 50; ///< what validate() accepts
 };
 
 struct SyntheticSceneParams {

@@ -20,11 +20,14 @@ enum class ShapeKind {
   Box,       ///< |x| <= size.x, |y| <= size.y, |z| <= size.z
   Sphere,    ///< radius size.x; polar axis local z
   Cylinder,  ///< radius size.x, axis local z, |z| <= size.z, capped
+  /// local z = 0, |x| <= size.x, |y| <= size.y (1 - (x / size.x)^2) (two-sided): a pointed
+  /// leaf, the region between two parabolas (convex)
+  Leaf,
 };
 
 /// What the generator meant a shape to be (recorded in scene.json; used by tests).
 /// Distant: a wall of the world style's skyline; Post: a thin vertical box; Branch: a thin box
-/// of a branch (a limb and its twigs).
+/// of a branch (a limb and its twigs); Leaf: one leaf of a bush.
 enum class ShapeRole {
   Background,
   FrontoPlane,
@@ -35,7 +38,8 @@ enum class ShapeRole {
   Wire,
   Distant,
   Post,
-  Branch
+  Branch,
+  Leaf
 };
 
 const char* toString(ShapeKind kind);

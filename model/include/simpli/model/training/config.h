@@ -40,7 +40,8 @@
 //                 "views": 12, "objects": 8, "antialias": 4,
 //                 "size": "192x128",                // WxH; --size overrides; "" = 192x128
 //                 "translation": [0.01, 0.3],       // world style: camera spread / near depth
-//                 "object_size": [0.08, 0.6]}       // world style: occluder width / image width
+//                 "object_size": [0.08, 0.6],       // world style: occluder width / image width
+//                 "bushes": [0, 0]}                 // world style: leaf clusters per scene
 // }
 #include "simpli/model/network/config.h"
 #include "simpli/model/synthetic/scene.h"
@@ -125,6 +126,9 @@ struct SyntheticConfig {
   /// World style: the occluders' apparent width / image width, log-uniform in [min, max].
   double objectSizeMin = synthetic::WorldStyleParams{}.objectSizeMin;
   double objectSizeMax = synthetic::WorldStyleParams{}.objectSizeMax;
+  /// World style: bushes (clusters of small leaves) per scene, uniform in [min, max].
+  int bushesMin = synthetic::WorldStyleParams{}.bushesMin;
+  int bushesMax = synthetic::WorldStyleParams{}.bushesMax;
 };
 
 /// The loss terms, in log order, with the reference's key names.
