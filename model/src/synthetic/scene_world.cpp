@@ -82,12 +82,27 @@ struct Placement {
       return s.centre.z() + s.extent(Eigen::Vector3d::UnitZ()) < 0.5 * farDepth;
     return cameraSideDistance(far, s.centre) - s.extent(-far.axes.col(2)) > 0.05 * front;
   }
+  bool clear(const std::vector<Shape>& parts) const {
+    return std::all_of(parts.begin(), parts.end(), [this](const Shape& s) { return clear(s); });
+  }
   // Disparity-uniform depth in [near, 0.45 x farDepth].
   double depth(Random& rng) const {
     const double zMax = 0.45 * farDepth;
     return 1.0 / rng.uniform(1.0 / zMax, 1.0 / p.nearDepth);
   }
 };
+
+// Moves the parts together onto the ray through image point (u, v) of the mean camera so that
+// their nearest point lies at depth z.
+void moveOntoRay(const SyntheticSceneParams& p, double u, double v, double z,
+                 std::vector<Shape>& parts) {
+  double front = std::numeric_limits<double>::infinity();
+  for (const Shape& part : parts)
+    front = std::min(front, part.centre.z() - part.extent(-Eigen::Vector3d::UnitZ()));
+  const Eigen::Vector3d shift = atImage(p, u, v, z) - Eigen::Vector3d(0, 0, front);
+  for (Shape& part : parts)
+    part.centre += shift;
+}
 
 ShapeRole occluderRole(Random& rng) {
   const double r = rng.uniform();
@@ -202,19 +217,10 @@ std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
       break;
     }
     }
-    // Put the structure on the ray through (u, v) so that its nearest point is at depth z.
-    double front = std::numeric_limits<double>::infinity();
-    for (const Shape& part : parts)
-      front = std::min(front, part.centre.z() - part.extent(-Eigen::Vector3d::UnitZ()));
-    const Eigen::Vector3d ray((u - 0.5) / p.fx(), (v - 0.5) / p.fy(), 1.0);
-    const Eigen::Vector3d shift = ray * z - Eigen::Vector3d(0, 0, front);
-    bool ok = true;
-    for (Shape& part : parts) {
-      part.centre += shift;
+    moveOntoRay(p, u, v, z, parts);
+    for (Shape& part : parts)
       part.texture = randomTexture(rng, pixel, 2, 12);
-      ok = ok && where.clear(part);
-    }
-    if (ok)
+    if (where.clear(parts))
       return parts;
   }
   fail("synthetic world scene (seed ", p.seed, "): cannot place thin structure ", index,
@@ -249,19 +255,10 @@ std::vector<Shape> placeBush(const Placement& where, int index, Random& rng) {
       leaf.centre = radius * Eigen::Vector3d(offset.x(), offset.y(), 0.5 * offset.z());
       parts.push_back(leaf);
     }
-    // Put the bush on the ray through (u, v) so that its nearest point is at depth z.
-    double front = std::numeric_limits<double>::infinity();
-    for (const Shape& part : parts)
-      front = std::min(front, part.centre.z() - part.extent(-Eigen::Vector3d::UnitZ()));
-    const Eigen::Vector3d ray((u - 0.5) / p.fx(), (v - 0.5) / p.fy(), 1.0);
-    const Eigen::Vector3d shift = ray * z - Eigen::Vector3d(0, 0, front);
-    bool ok = true;
-    for (Shape& part : parts) {
-      part.centre += shift;
+    moveOntoRay(p, u, v, z, parts);
+    for (Shape& part : parts)
       part.texture = randomTexture(rng, pixelAt(p, part.centre.z()), 2, 12);
-      ok = ok && where.clear(part);
-    }
-    if (ok)
+    if (where.clear(parts))
       return parts;
   }
   fail("synthetic world scene (seed ", p.seed, "): cannot place bush ", index,
