@@ -265,6 +265,20 @@ std::vector<Shape> placeBush(const Placement& where, int index, Random& rng) {
        " in front of the far layer");
 }
 
+// Appends low .. high groups of shapes (thin structures, bushes): the count drawn from `stream`,
+// group j placed with its own stream (j + 1 of it), so each kind leaves the others' draws alone.
+using PlaceGroup = std::vector<Shape> (*)(const Placement&, int, Random&);
+void addGroups(uint64_t seed, Stream stream, int low, int high, const Placement& where,
+               PlaceGroup place, std::vector<Shape>& objects) {
+  Random count(deriveSeed(seed, stream));
+  const int groups = count.uniformInt(low, high);
+  for (int j = 0; j < groups; ++j) {
+    Random rng(deriveSeed(deriveSeed(seed, stream), uint64_t(j) + 1));
+    for (Shape& part : place(where, j, rng))
+      objects.push_back(std::move(part));
+  }
+}
+
 } // namespace
 
 SyntheticScene generateWorldScene(const SyntheticSceneParams& params) {
@@ -312,21 +326,8 @@ SyntheticScene generateWorldScene(const SyntheticSceneParams& params) {
     occluders.push_back(placeOccluder(where, occluders, i, rng));
   }
   objects.insert(objects.end(), occluders.begin(), occluders.end());
-  Random thinCount(deriveSeed(p.seed, kThin));
-  const int thin = thinCount.uniformInt(w.thinStructuresMin, w.thinStructuresMax);
-  for (int j = 0; j < thin; ++j) {
-    Random rng(deriveSeed(deriveSeed(p.seed, kThin), uint64_t(j) + 1));
-    for (Shape& part : placeThin(where, j, rng))
-      objects.push_back(std::move(part));
-  }
-
-  Random bushCount(deriveSeed(p.seed, kBushes));
-  const int bushes = bushCount.uniformInt(w.bushesMin, w.bushesMax);
-  for (int j = 0; j < bushes; ++j) {
-    Random rng(deriveSeed(deriveSeed(p.seed, kBushes), uint64_t(j) + 1));
-    for (Shape& leaf : placeBush(where, j, rng))
-      objects.push_back(std::move(leaf));
-  }
+  addGroups(p.seed, kThin, w.thinStructuresMin, w.thinStructuresMax, where, placeThin, objects);
+  addGroups(p.seed, kBushes, w.bushesMin, w.bushesMax, where, placeBush, objects);
 
   // Photo textures, upright on the walls and fronto-parallel planes.
   maybePhotoTexture(p, 0, pixelAt(p, background.centre.z()), true, background);
