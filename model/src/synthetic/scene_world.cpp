@@ -228,9 +228,8 @@ std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
 }
 
 // Bush j: 20 .. 60 pointed leaves (3 .. 10 % of the image width long, a quarter to half as wide)
-// scattered through a flattened ball 8 .. 25 % of the width across (dense: they cover most of it),
-// each turned up to 60 degrees about both image axes and any angle in its plane; the nearest leaf
-// at a disparity-uniform depth.
+// scattered through a flattened ball 8 .. 25 % of the width across, each turned up to 60 degrees
+// about both image axes and any angle in its plane; the nearest leaf at a disparity-uniform depth.
 std::vector<Shape> placeBush(const Placement& where, int index, Random& rng) {
   const SyntheticSceneParams& p = where.p;
   const int leaves = rng.uniformInt(20, 60);
