@@ -11,8 +11,10 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -100,7 +102,16 @@ public:
   }
   template <typename Int> void readInteger(const std::string& key, Int& out) {
     if (const json* v = find(key))
-      out = static_cast<Int>(checkedInteger(*v, where(key)));
+      out = integerOfType<Int>(*v, where(key));
+  }
+  /// [integer, integer]; each must fit Int (a cast would wrap 2^32 + 1 to 1 silently).
+  template <typename Int> void readIntegerPair(const std::string& key, Int& a, Int& b) {
+    if (const json* v = find(key)) {
+      if (!v->is_array() || v->size() != 2)
+        fail(source_, ": ", where(key), " is ", jsonExcerpt(*v), ", expected [integer, integer]");
+      a = integerOfType<Int>((*v)[0], where(key + "[0]"));
+      b = integerOfType<Int>((*v)[1], where(key + "[1]"));
+    }
   }
   void readPair(const std::string& key, double& a, double& b) {
     if (const json* v = find(key)) {
@@ -133,7 +144,18 @@ private:
   int64_t checkedInteger(const json& v, const std::string& what) const {
     if (!v.is_number_integer())
       fail(source_, ": ", what, " is ", jsonExcerpt(v), ", expected an integer");
+    if (v.is_number_unsigned() && v.get<uint64_t>() > uint64_t(std::numeric_limits<int64_t>::max()))
+      fail(source_, ": ", what, " = ", v.get<uint64_t>(), " is too large");
     return v.get<int64_t>();
+  }
+  template <typename Int> Int integerOfType(const json& v, const std::string& what) const {
+    static_assert(std::is_signed_v<Int>, "for unsigned fields, check the sign first");
+    const int64_t i = checkedInteger(v, what);
+    if (i < int64_t(std::numeric_limits<Int>::min()) ||
+        i > int64_t(std::numeric_limits<Int>::max()))
+      fail(source_, ": ", what, " = ", i, " is outside [", std::numeric_limits<Int>::min(), ", ",
+           std::numeric_limits<Int>::max(), "]");
+    return static_cast<Int>(i);
   }
   double numberValue(const json& v, const std::string& what) const {
     if (!v.is_number())

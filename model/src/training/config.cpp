@@ -75,13 +75,7 @@ void readSynthetic(const json& object, const std::string& source, SyntheticConfi
   f.readInteger("antialias", out.antialias);
   f.readPair("translation", out.translationMin, out.translationMax);
   f.readPair("object_size", out.objectSizeMin, out.objectSizeMax);
-  double bushesMin = out.bushesMin, bushesMax = out.bushesMax;
-  f.readPair("bushes", bushesMin, bushesMax);
-  if (bushesMin != std::floor(bushesMin) || bushesMax != std::floor(bushesMax) ||
-      !(std::abs(bushesMin) <= 1e9 && std::abs(bushesMax) <= 1e9))
-    fail(named("bushes"), " = [", bushesMin, ", ", bushesMax, "]: expected integers");
-  out.bushesMin = int(bushesMin);
-  out.bushesMax = int(bushesMax);
+  f.readIntegerPair("bushes", out.bushesMin, out.bushesMax);
   const std::string size = stringField(f, "size", "");
   if (!size.empty())
     parseWidthHeight(size, named("size"), out.width, out.height);
@@ -273,12 +267,7 @@ TrainingConfig parseTrainingConfig(const std::string& jsonText, const std::strin
     f.readInteger("max_views", sc.maxViews);
     f.readInteger("novel_views", sc.novelViews);
     f.readInteger("window", sc.window);
-    double ch = sc.cropHeight, cw = sc.cropWidth;
-    f.readPair("crop", ch, cw);
-    if (ch != std::floor(ch) || cw != std::floor(cw))
-      fail(source, ": field \"sampling.crop\" = [", ch, ", ", cw, "]: expected integers");
-    sc.cropHeight = int(ch);
-    sc.cropWidth = int(cw);
+    f.readIntegerPair("crop", sc.cropHeight, sc.cropWidth);
     f.readNumbers("zoom", sc.zoomScales);
     f.readNumber("mixup_probability", sc.mixupProbability);
     f.readPair("mixup_lambda", sc.mixupLambdaMin, sc.mixupLambdaMax);

@@ -110,6 +110,18 @@ TEST(TrainConfig, BadInputNamesFieldAndValue) {
       {"sampling.crop", "multiples of 16"});
   expectError(
       [] {
+        parseTrainingConfig(R"({"network": "official-4l", "sampling": {"crop": [96.5, 128]}})",
+                            "a.json", "");
+      },
+      {"a.json", "\"sampling.crop[0]\" is 96.5", "expected an integer"});
+  expectError(
+      [] {
+        parseTrainingConfig(R"({"network": "official-4l", "max_fragments": 4294967297})", "a.json",
+                            "");
+      },
+      {"a.json", "\"max_fragments\" = 4294967297", "outside"});
+  expectError(
+      [] {
         parseTrainingConfig(R"({"network": "official-4l", "sampling": {"zoom": [1.2, 0.8]}})",
                             "a.json", "");
       },
@@ -276,7 +288,14 @@ TEST(TrainConfig, SyntheticSectionBadFieldsAreNamed) {
   expectError(parse(R"({"bushes": [-1, 2]})"), {"w.json", "\"synthetic.bushes\" = [-1, 2]"});
   expectError(parse(R"({"bushes": [1, 51]})"), {"w.json", "\"synthetic.bushes\" = [1, 51]", "50"});
   expectError(parse(R"({"bushes": [1, 2.5]})"),
-              {"w.json", "\"synthetic.bushes\" = [1, 2.5]", "integers"});
+              {"w.json", "\"synthetic.bushes[1]\" is 2.5", "expected an integer"});
+  // Integers that do not fit an int are named, not wrapped (2^32 + 2 would become 2).
+  expectError(parse(R"({"bushes": [1, 4294967298]})"),
+              {"w.json", "\"synthetic.bushes[1]\" = 4294967298", "outside"});
+  expectError(parse(R"({"views": 4294967308})"),
+              {"w.json", "\"synthetic.views\" = 4294967308", "outside"});
+  expectError(parse(R"({"objects": 18446744073709551615})"),
+              {"w.json", "\"synthetic.objects\" = 18446744073709551615", "too large"});
   expectError(parse(R"({"bushes": 2})"), {"w.json", "bushes"});
   expectError(parse(R"("world")"), {"w.json", "synthetic"});
 }
