@@ -16,6 +16,8 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace simpli::app {
@@ -34,8 +36,24 @@ struct MakeSceneOptions {
   std::string photoDir;
   std::vector<double> objectSize; ///< world style: MIN,MAX occluder width / image width
   std::vector<int> bushes;        ///< world style: MIN,MAX leaf clusters per scene
+  std::vector<double> bushScale;  ///< world style: MIN,MAX factor on each bush's size
   bool force = false;
 };
+
+// A world-style option's MIN,MAX (two `what`: numbers, counts) within [lowest, highest].
+template <typename T>
+std::pair<T, T> worldRange(const std::vector<T>& values, const char* flag,
+                           synthetic::SceneStyle style, T lowest, T highest, const char* what,
+                           const char* unit) {
+  if (style != synthetic::SceneStyle::World)
+    fail(flag, ": only with --style world");
+  if (values.size() != 2)
+    fail(flag, ": expected MIN,MAX (two ", what, "), got ", values.size());
+  const T low = values[0], high = values[1];
+  if (!(low >= lowest && low <= high && high <= highest))
+    fail(flag, " ", low, ",", high, ": need ", lowest, " <= MIN <= MAX <= ", highest, unit);
+  return {low, high};
+}
 
 void runMakeScene(const MakeSceneOptions& o) {
   using namespace synthetic;
@@ -59,31 +77,18 @@ void runMakeScene(const MakeSceneOptions& o) {
   const io::ImageSize size = io::parseImageSize(o.size, "--size");
   p.width = size.width;
   p.height = size.height;
-  if (!o.objectSize.empty()) {
-    if (p.style != synthetic::SceneStyle::World)
-      fail("--object-size: only with --style world");
-    if (o.objectSize.size() != 2)
-      fail("--object-size: expected MIN,MAX (two numbers), got ", o.objectSize.size());
-    const double low = o.objectSize[0], high = o.objectSize[1];
-    using World = synthetic::WorldStyleParams;
-    if (!(low >= World::kObjectSizeLow && low <= high && high <= World::kObjectSizeHigh))
-      fail("--object-size ", low, ",", high, ": need ", World::kObjectSizeLow,
-           " <= MIN <= MAX <= ", World::kObjectSizeHigh, " (x the image width)");
-    p.world.objectSizeMin = low;
-    p.world.objectSizeMax = high;
-  }
-  if (!o.bushes.empty()) {
-    if (p.style != synthetic::SceneStyle::World)
-      fail("--bushes: only with --style world");
-    if (o.bushes.size() != 2)
-      fail("--bushes: expected MIN,MAX (two counts), got ", o.bushes.size());
-    const int low = o.bushes[0], high = o.bushes[1];
-    const int most = synthetic::WorldStyleParams::kBushesHigh;
-    if (!(low >= 0 && low <= high && high <= most))
-      fail("--bushes ", low, ",", high, ": need 0 <= MIN <= MAX <= ", most);
-    p.world.bushesMin = low;
-    p.world.bushesMax = high;
-  }
+  using World = synthetic::WorldStyleParams;
+  if (!o.objectSize.empty())
+    std::tie(p.world.objectSizeMin, p.world.objectSizeMax) =
+        worldRange(o.objectSize, "--object-size", p.style, World::kObjectSizeLow,
+                   World::kObjectSizeHigh, "numbers", " (x the image width)");
+  if (!o.bushes.empty())
+    std::tie(p.world.bushesMin, p.world.bushesMax) =
+        worldRange(o.bushes, "--bushes", p.style, 0, World::kBushesHigh, "counts", "");
+  if (!o.bushScale.empty())
+    std::tie(p.world.bushScaleMin, p.world.bushScaleMax) =
+        worldRange(o.bushScale, "--bush-scale", p.style, World::kBushScaleLow,
+                   World::kBushScaleHigh, "numbers", "");
   p.validate(); // the remaining limits (e.g. views <= 10000), named by field
   io::checkOutputLocation(o.out, "--out");
 
@@ -187,6 +192,12 @@ void addMakeSceneCommand(CLI::App& app) {
   cmd->add_option("--bushes", opts->bushes,
                   "With --style world: MIN,MAX bushes per scene, uniform (clusters of 20 .. 60 "
                   "small leaves at one depth; default 0,0)")
+      ->delimiter(',')
+      ->expected(1, 2);
+  cmd->add_option("--bush-scale", opts->bushScale,
+                  "With --style world: MIN,MAX factor on each bush's size (its leaves and their "
+                  "ball), log-uniform (default 1,1: leaves 3 .. 10 % of the image width; LLFF "
+                  "flower's are 10 .. 35 %)")
       ->delimiter(',')
       ->expected(1, 2);
   cmd->add_flag("--force", opts->force, "Replace DIR if it holds a scene written by make-scene");

@@ -256,6 +256,10 @@ void SyntheticSceneParams::validate() const {
     checkRange("world.thinStructuresMax", w.thinStructuresMax, w.thinStructuresMin, 100);
     checkRange("world.bushesMin", w.bushesMin, 0, WorldStyleParams::kBushesHigh);
     checkRange("world.bushesMax", w.bushesMax, w.bushesMin, WorldStyleParams::kBushesHigh);
+    checkRange("world.bushScaleMin", w.bushScaleMin, WorldStyleParams::kBushScaleLow,
+               WorldStyleParams::kBushScaleHigh);
+    checkRange("world.bushScaleMax", w.bushScaleMax, w.bushScaleMin,
+               WorldStyleParams::kBushScaleHigh);
     // Without sky the far plane (slanted up to kWorldMaxSlant) must fill every view, as below.
     SyntheticSceneParams widest = *this;
     widest.fovDegrees = w.fovDegreesMax;

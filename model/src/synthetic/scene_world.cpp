@@ -233,9 +233,12 @@ std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
 std::vector<Shape> placeBush(const Placement& where, int index, Random& rng) {
   const SyntheticSceneParams& p = where.p;
   const int leaves = rng.uniformInt(20, 60);
+  const double low = p.world.bushScaleMin, high = p.world.bushScaleMax;
+  const double scale = low == high ? low : logUniform(rng, low, high);
   for (int attempt = 0; attempt < 200; ++attempt) {
     const double z = where.depth(rng);
-    const double unitsPerWidth = z / p.fx(); // scene units across the image at depth z
+    const double unitsPerWidth =
+        scale * z / p.fx(); // scene units across the image at depth z, scaled
     const double radius = 0.5 * unitsPerWidth * rng.uniform(0.08, 0.25);
     const double u = rng.uniform(0.0, 1.0), v = rng.uniform(0.0, 1.0);
     std::vector<Shape> parts;

@@ -109,6 +109,9 @@ std::string commandFor(const SyntheticSceneParams& p) {
   }
   if (p.style == SceneStyle::World && (w.bushesMin != dw.bushesMin || w.bushesMax != dw.bushesMax))
     command += " --bushes " + std::to_string(w.bushesMin) + "," + std::to_string(w.bushesMax);
+  if (p.style == SceneStyle::World &&
+      (w.bushScaleMin != dw.bushScaleMin || w.bushScaleMax != dw.bushScaleMax))
+    command += " --bush-scale " + shortestText(w.bushScaleMin) + "," + shortestText(w.bushScaleMax);
   if (p.textures != TextureSet::Procedural)
     command +=
         " --textures " + std::string(toString(p.textures)) +
@@ -179,6 +182,9 @@ std::string sceneDescriptionJson(const SyntheticScene& scene,
       j["params"]["world"]["object_size"] = {w.objectSizeMin, w.objectSizeMax};
     if (w.bushesMin != WorldStyleParams{}.bushesMin || w.bushesMax != WorldStyleParams{}.bushesMax)
       j["params"]["world"]["bushes"] = {w.bushesMin, w.bushesMax};
+    if (w.bushScaleMin != WorldStyleParams{}.bushScaleMin ||
+        w.bushScaleMax != WorldStyleParams{}.bushScaleMax)
+      j["params"]["world"]["bush_scale"] = {w.bushScaleMin, w.bushScaleMax};
     const WorldLayout& l = scene.world;
     j["world"] = {{"fov_degrees", l.fovDegrees},
                   {"far_depth", l.farDepth},

@@ -76,6 +76,7 @@ void readSynthetic(const json& object, const std::string& source, SyntheticConfi
   f.readPair("translation", out.translationMin, out.translationMax);
   f.readPair("object_size", out.objectSizeMin, out.objectSizeMax);
   f.readIntegerPair("bushes", out.bushesMin, out.bushesMax);
+  f.readPair("bush_scale", out.bushScaleMin, out.bushScaleMax);
   const std::string size = stringField(f, "size", "");
   if (!size.empty())
     parseWidthHeight(size, named("size"), out.width, out.height);
@@ -210,6 +211,10 @@ void TrainingConfig::validate(const std::string& source) const {
   if (!(y.bushesMin >= 0 && y.bushesMin <= y.bushesMax && y.bushesMax <= World::kBushesHigh))
     fail(source, ": field \"synthetic.bushes\" = [", y.bushesMin, ", ", y.bushesMax,
          "]: need 0 <= low <= high <= ", World::kBushesHigh);
+  if (!(y.bushScaleMin >= World::kBushScaleLow && y.bushScaleMin <= y.bushScaleMax &&
+        y.bushScaleMax <= World::kBushScaleHigh))
+    fail(source, ": field \"synthetic.bush_scale\" = [", y.bushScaleMin, ", ", y.bushScaleMax,
+         "]: need ", World::kBushScaleLow, " <= low <= high <= ", World::kBushScaleHigh);
   if ((y.width == 0) != (y.height == 0) || y.width % 16 != 0 || y.height % 16 != 0 || y.width < 0 ||
       y.height < 0)
     fail(source, ": field \"synthetic.size\" = \"", y.width, "x", y.height,
@@ -334,6 +339,7 @@ std::string toJson(const TrainingConfig& c) {
                        {"translation", {y.translationMin, y.translationMax}},
                        {"object_size", {y.objectSizeMin, y.objectSizeMax}},
                        {"bushes", {y.bushesMin, y.bushesMax}},
+                       {"bush_scale", {y.bushScaleMin, y.bushScaleMax}},
                        {"size", y.width > 0
                                     ? std::to_string(y.width) + "x" + std::to_string(y.height)
                                     : std::string()}};

@@ -135,6 +135,8 @@ private:
     p.world.objectSizeMax = c.objectSizeMax;
     p.world.bushesMin = c.bushesMin;
     p.world.bushesMax = c.bushesMax;
+    p.world.bushScaleMin = c.bushScaleMin;
+    p.world.bushScaleMax = c.bushScaleMax;
     if (c.height > 0 && c.width > 0) {
       p.height = c.height;
       p.width = c.width;

@@ -248,6 +248,39 @@ TEST(WorldStyle, BushesAreClustersOfSmallLeaves) {
   EXPECT_GE(scenesWithLeafPixels, 6);
 }
 
+// world.bushScale multiplies each bush's leaves (and the ball they fill): LLFF flower's leaves
+// are 10 .. 35 % of the image long, the default bush's 3 .. 10 %. A fixed factor scales every
+// leaf; a range draws one factor per bush, so some bushes hold leaves beyond the default's.
+TEST(WorldStyle, BushScaleScalesTheLeaves) {
+  double longestInRange = 0;
+  for (uint64_t seed = 0; seed < 6; ++seed) {
+    for (const double low : {3.0, 1.0}) {
+      SyntheticSceneParams p = worldParams(seed);
+      p.world.bushesMin = p.world.bushesMax = 2;
+      p.world.bushScaleMin = low;
+      p.world.bushScaleMax = 3;
+      const SyntheticScene s = generateSyntheticScene(p);
+      const double fx = 0.5 / std::tan(0.5 * s.world.fovDegrees * kDeg);
+      int leaves = 0;
+      for (const Shape& o : s.objects) {
+        if (o.role != ShapeRole::Leaf)
+          continue;
+        ++leaves;
+        const double length = 2 * o.size.x() * fx / o.centre.z(); // / image width
+        EXPECT_GE(length, low * 0.03 * 0.5) << "seed " << seed;   // leaves behind look smaller
+        EXPECT_LE(length, 3 * 0.10 * (1 + 1e-9)) << "seed " << seed;
+        if (low == 1.0)
+          longestInRange = std::max(longestInRange, length);
+      }
+      EXPECT_GE(leaves, 40) << "seed " << seed;
+      const std::string json = sceneDescriptionJson(s, {}, 1);
+      EXPECT_NE(json.find(low == 1.0 ? "--bush-scale 1,3" : "--bush-scale 3,3"), std::string::npos);
+      EXPECT_NE(json.find("\"bush_scale\""), std::string::npos);
+    }
+  }
+  EXPECT_GT(longestInRange, 0.12);
+}
+
 TEST(WorldStyle, DeterministicPerSeed) {
   const SyntheticSceneParams p = worldParams(11);
   const SyntheticScene a = generateSyntheticScene(p), b = generateSyntheticScene(p);
@@ -305,6 +338,9 @@ TEST(WorldStyle, ParamsValidated) {
   bad([](auto& p) { p.world.bushesMin = -1; }, {"'world.bushesMin' is -1"});
   bad([](auto& p) { p.world.bushesMax = 51; }, {"'world.bushesMax' is 51"});
   bad([](auto& p) { p.world.bushesMin = 3, p.world.bushesMax = 2; }, {"'world.bushesMax' is 2"});
+  bad([](auto& p) { p.world.bushScaleMin = 0.1; }, {"'world.bushScaleMin' is 0.1"});
+  bad([](auto& p) { p.world.bushScaleMax = 5; }, {"'world.bushScaleMax' is 5"});
+  bad([](auto& p) { p.world.bushScaleMin = 2; }, {"'world.bushScaleMax' is 1"});
   bad([](auto& p) { p.height = 4000; }, {"far plane could be missed"});
   SyntheticSceneParams sky = worldParams(0, 64, 4000);
   sky.world.skyProbability = 1.0; // every ray that misses sees the sky: no such limit

@@ -206,7 +206,7 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
                         "photo_dir": "/photos", "photos_required": false, "views": 16,
                         "objects": 5, "antialias": 2, "size": "256x192",
                         "translation": [0.1, 0.45], "object_size": [0.03, 0.2],
-                        "bushes": [1, 3]}})",
+                        "bushes": [1, 3], "bush_scale": [1, 2.5]}})",
       "t.json", "");
   EXPECT_EQ(c.synthetic.style, synthetic::SceneStyle::World);
   EXPECT_EQ(c.synthetic.textures, synthetic::TextureSet::Photo);
@@ -224,8 +224,12 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_DOUBLE_EQ(c.synthetic.objectSizeMax, 0.2);
   EXPECT_EQ(c.synthetic.bushesMin, 1);
   EXPECT_EQ(c.synthetic.bushesMax, 3);
+  EXPECT_EQ(c.synthetic.bushScaleMin, 1);
+  EXPECT_EQ(c.synthetic.bushScaleMax, 2.5);
   EXPECT_EQ(d.synthetic.bushesMin, 0);
   EXPECT_EQ(d.synthetic.bushesMax, 0);
+  EXPECT_EQ(d.synthetic.bushScaleMin, 1);
+  EXPECT_EQ(d.synthetic.bushScaleMax, 1);
   const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
   EXPECT_EQ(toJson(back), toJson(c));
   EXPECT_EQ(toJson(parseTrainingConfig(toJson(d), "back", "")), toJson(d));
@@ -242,6 +246,9 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
   other = c;
   other.synthetic.bushesMax = 2;
+  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
+  other = c;
+  other.synthetic.bushScaleMax = 3;
   EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
 }
 
@@ -297,6 +304,13 @@ TEST(TrainConfig, SyntheticSectionBadFieldsAreNamed) {
   expectError(parse(R"({"objects": 18446744073709551615})"),
               {"w.json", "\"synthetic.objects\" = 18446744073709551615", "too large"});
   expectError(parse(R"({"bushes": 2})"), {"w.json", "bushes"});
+  expectError(parse(R"({"bush_scale": [3, 1]})"),
+              {"w.json", "\"synthetic.bush_scale\" = [3, 1]", "low <= high"});
+  expectError(parse(R"({"bush_scale": [0.1, 1]})"),
+              {"w.json", "\"synthetic.bush_scale\" = [0.1, 1]", "0.25"});
+  expectError(parse(R"({"bush_scale": [1, 5]})"),
+              {"w.json", "\"synthetic.bush_scale\" = [1, 5]", "4"});
+  expectError(parse(R"({"bush_scale": "big"})"), {"w.json", "bush_scale", "[number, number]"});
   expectError(parse(R"("world")"), {"w.json", "synthetic"});
 }
 

@@ -68,6 +68,13 @@ struct WorldStyleParams {
   /// slants, whose edges cross each other (the default scenes' few large occluders do not).
   int bushesMin = 0, bushesMax = 0;
   static constexpr int kBushesHigh = 50; ///< what validate() accepts
+  /// Each bush's size (its leaves and the ball they fill) x a factor drawn log-uniform in [min,
+  /// max] per bush. LLFF flower's leaves are 10 .. 35 % of the image long: 3 draws leaves of 9 ..
+  /// 30 % in a ball of 24 .. 75 %. Equal bounds draw nothing, so the default's scenes keep their
+  /// draws.
+  double bushScaleMin = 1, bushScaleMax = 1;
+  /// What validate() accepts for the bush scale range (training configs check the same).
+  static constexpr double kBushScaleLow = 0.25, kBushScaleHigh = 4;
 };
 
 struct SyntheticSceneParams {

@@ -41,7 +41,8 @@
 //                 "size": "192x128",                // WxH; --size overrides; "" = 192x128
 //                 "translation": [0.01, 0.3],       // world style: camera spread / near depth
 //                 "object_size": [0.08, 0.6],       // world style: occluder width / image width
-//                 "bushes": [0, 0]}                 // world style: leaf clusters per scene
+//                 "bushes": [0, 0],                 // world style: leaf clusters per scene
+//                 "bush_scale": [1, 1]}             // world style: x their size, log-uniform
 // }
 #include "simpli/model/network/config.h"
 #include "simpli/model/synthetic/scene.h"
@@ -129,6 +130,9 @@ struct SyntheticConfig {
   /// World style: bushes (clusters of small leaves) per scene, uniform in [min, max].
   int bushesMin = synthetic::WorldStyleParams{}.bushesMin;
   int bushesMax = synthetic::WorldStyleParams{}.bushesMax;
+  /// World style: each bush's size x a factor, log-uniform in [min, max] (1 = as before).
+  double bushScaleMin = synthetic::WorldStyleParams{}.bushScaleMin;
+  double bushScaleMax = synthetic::WorldStyleParams{}.bushScaleMax;
 };
 
 /// The loss terms, in log order, with the reference's key names.
