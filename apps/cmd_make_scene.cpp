@@ -16,6 +16,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -34,9 +35,10 @@ struct MakeSceneOptions {
   std::string style = "objects";
   std::string textures = "procedural";
   std::string photoDir;
-  std::vector<double> objectSize; ///< world style: MIN,MAX occluder width / image width
-  std::vector<int> bushes;        ///< world style: MIN,MAX leaf clusters per scene
-  std::vector<double> bushScale;  ///< world style: MIN,MAX factor on each bush's size
+  std::vector<double> objectSize;          ///< world style: MIN,MAX occluder width / image width
+  std::vector<int> bushes;                 ///< world style: MIN,MAX leaf clusters per scene
+  std::vector<double> bushScale;           ///< world style: MIN,MAX factor on each bush's size
+  std::optional<double> bushSharedTexture; ///< world style: P(a bush's leaves share a photo)
   bool force = false;
 };
 
@@ -89,6 +91,14 @@ void runMakeScene(const MakeSceneOptions& o) {
     std::tie(p.world.bushScaleMin, p.world.bushScaleMax) =
         worldRange(o.bushScale, "--bush-scale", p.style, World::kBushScaleLow,
                    World::kBushScaleHigh, "numbers", "");
+  if (o.bushSharedTexture) {
+    const double share = *o.bushSharedTexture;
+    if (p.style != synthetic::SceneStyle::World || p.textures != synthetic::TextureSet::Photo)
+      fail("--bush-shared-texture: only with --style world --textures photo");
+    if (!(share >= 0 && share <= 1))
+      fail("--bush-shared-texture ", share, ": must be 0 .. 1 (a probability)");
+    p.world.bushSharedTexture = share;
+  }
   p.validate(); // the remaining limits (e.g. views <= 10000), named by field
   io::checkOutputLocation(o.out, "--out");
 
@@ -200,6 +210,9 @@ void addMakeSceneCommand(CLI::App& app) {
                   "flower's are 10 .. 35 %)")
       ->delimiter(',')
       ->expected(1, 2);
+  cmd->add_option("--bush-shared-texture", opts->bushSharedTexture,
+                  "With --style world --textures photo: probability that a bush's leaves share "
+                  "one photo (own crops and turns; default 0: a texture each)");
   cmd->add_flag("--force", opts->force, "Replace DIR if it holds a scene written by make-scene");
   cmd->callback([opts] { runMakeScene(*opts); });
 }

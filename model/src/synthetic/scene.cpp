@@ -47,10 +47,14 @@ void maybePhotoTexture(const SyntheticSceneParams& p, uint64_t index, double uni
   Random rng(deriveSeed(deriveSeed(p.seed, kPhotoTextures), index));
   if (!rng.chance(p.photoProbability))
     return;
+  shape.texture = randomPhotoTexture(rng, allPhotos(p), unitsPerPixel, upright);
+}
+
+std::vector<std::shared_ptr<const Photo>> allPhotos(const SyntheticSceneParams& p) {
   std::vector<std::shared_ptr<const Photo>> photos;
   for (size_t i = 0; i < p.photos->size(); ++i)
     photos.push_back(p.photos->photo(i));
-  shape.texture = randomPhotoTexture(rng, photos, unitsPerPixel, upright);
+  return photos;
 }
 
 Eigen::Vector3d randomLightDirection(uint64_t seed) {
@@ -260,6 +264,7 @@ void SyntheticSceneParams::validate() const {
                WorldStyleParams::kBushScaleHigh);
     checkRange("world.bushScaleMax", w.bushScaleMax, w.bushScaleMin,
                WorldStyleParams::kBushScaleHigh);
+    checkRange("world.bushSharedTexture", w.bushSharedTexture, 0.0, 1.0);
     // Without sky the far plane (slanted up to kWorldMaxSlant) must fill every view, as below.
     SyntheticSceneParams widest = *this;
     widest.fovDegrees = w.fovDegreesMax;

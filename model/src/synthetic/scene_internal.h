@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <memory>
+#include <vector>
 
 namespace simpli::synthetic::detail {
 
@@ -48,6 +50,9 @@ double logUniform(Random& rng, double lo, double hi);
 /// so the procedural draws of the shape are unchanged either way.
 void maybePhotoTexture(const SyntheticSceneParams& p, uint64_t index, double unitsPerPixel,
                        bool upright, Shape& shape);
+
+/// Every photo of params.photos (usesPhotos() must hold).
+std::vector<std::shared_ptr<const Photo>> allPhotos(const SyntheticSceneParams& p);
 
 /// The light over the photographer's shoulder (stream kLight).
 Eigen::Vector3d randomLightDirection(uint64_t seed);

@@ -230,11 +230,32 @@ std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
 // Bush j: 20 .. 60 pointed leaves (3 .. 10 % of the image width long, a quarter to half as wide)
 // scattered through a flattened ball 8 .. 25 % of the width across, each turned up to 60 degrees
 // about both image axes and any angle in its plane; the nearest leaf at a disparity-uniform depth.
+// With probability world.bushSharedTexture (and photoProbability), every leaf of a bush gets
+// the same photo with the same colour jitter, each its own crop and turn: foliage whose leaves
+// differ little in colour, so that only parallax tells their edges apart (LLFF flower's green
+// leaves against green leaves), where leaves textured one by one contrast at every edge. The
+// texture loop of generateWorldScene then leaves them alone. Draws come after the placement,
+// from the bush's own stream: the placement is the same either way.
+void maybeSharedLeafTexture(const SyntheticSceneParams& p, double unitsPerPixel, Random& rng,
+                            std::vector<Shape>& leaves) {
+  if (!p.usesPhotos() || !(p.world.bushSharedTexture > 0))
+    return;
+  Random draw(rng.bits());
+  if (!draw.chance(p.world.bushSharedTexture) || !draw.chance(p.photoProbability))
+    return;
+  const Texture shared = randomPhotoTexture(draw, allPhotos(p), unitsPerPixel, false);
+  for (Shape& leaf : leaves) {
+    leaf.texture = shared;
+    leaf.texture.mapping.offset = Eigen::Vector2d(draw.uniform(0.0, double(shared.photo->width)),
+                                                  draw.uniform(0.0, double(shared.photo->height)));
+    leaf.texture.angle = draw.uniform(0.0, 2.0 * M_PI);
+  }
+}
+
 std::vector<Shape> placeBush(const Placement& where, int index, Random& rng) {
   const SyntheticSceneParams& p = where.p;
   const int leaves = rng.uniformInt(20, 60);
-  const double low = p.world.bushScaleMin, high = p.world.bushScaleMax;
-  const double scale = low == high ? low : logUniform(rng, low, high);
+  const double scale = logUniform(rng, p.world.bushScaleMin, p.world.bushScaleMax); // 1: no draw
   for (int attempt = 0; attempt < 200; ++attempt) {
     const double z = where.depth(rng);
     const double unitsPerWidth =
@@ -260,8 +281,10 @@ std::vector<Shape> placeBush(const Placement& where, int index, Random& rng) {
     moveOntoRay(p, u, v, z, parts);
     for (Shape& part : parts)
       part.texture = randomTexture(rng, pixelAt(p, part.centre.z()), 2, 12);
-    if (where.clear(parts))
+    if (where.clear(parts)) {
+      maybeSharedLeafTexture(p, pixelAt(p, z), rng, parts);
       return parts;
+    }
   }
   fail("synthetic world scene (seed ", p.seed, "): cannot place bush ", index,
        " in front of the far layer");
@@ -335,6 +358,8 @@ SyntheticScene generateWorldScene(const SyntheticSceneParams& params) {
   maybePhotoTexture(p, 0, pixelAt(p, background.centre.z()), true, background);
   for (size_t i = 0; i < objects.size(); ++i) {
     Shape& o = objects[i];
+    if (o.role == ShapeRole::Leaf && o.texture.pattern == Pattern::Photo)
+      continue; // a bush's shared photo (maybeSharedLeafTexture)
     const bool upright = o.role == ShapeRole::Distant || o.role == ShapeRole::FrontoPlane;
     maybePhotoTexture(p, uint64_t(i) + 1, pixelAt(p, std::max(o.centre.z(), p.nearDepth)), upright,
                       o);

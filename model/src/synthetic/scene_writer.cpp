@@ -112,6 +112,8 @@ std::string commandFor(const SyntheticSceneParams& p) {
   if (p.style == SceneStyle::World &&
       (w.bushScaleMin != dw.bushScaleMin || w.bushScaleMax != dw.bushScaleMax))
     command += " --bush-scale " + shortestText(w.bushScaleMin) + "," + shortestText(w.bushScaleMax);
+  if (p.style == SceneStyle::World && w.bushSharedTexture != dw.bushSharedTexture)
+    command += " --bush-shared-texture " + shortestText(w.bushSharedTexture);
   if (p.textures != TextureSet::Procedural)
     command +=
         " --textures " + std::string(toString(p.textures)) +
@@ -185,6 +187,8 @@ std::string sceneDescriptionJson(const SyntheticScene& scene,
     if (w.bushScaleMin != WorldStyleParams{}.bushScaleMin ||
         w.bushScaleMax != WorldStyleParams{}.bushScaleMax)
       j["params"]["world"]["bush_scale"] = {w.bushScaleMin, w.bushScaleMax};
+    if (w.bushSharedTexture != WorldStyleParams{}.bushSharedTexture)
+      j["params"]["world"]["bush_shared_texture"] = w.bushSharedTexture;
     const WorldLayout& l = scene.world;
     j["world"] = {{"fov_degrees", l.fovDegrees},
                   {"far_depth", l.farDepth},

@@ -77,6 +77,7 @@ void readSynthetic(const json& object, const std::string& source, SyntheticConfi
   f.readPair("object_size", out.objectSizeMin, out.objectSizeMax);
   f.readIntegerPair("bushes", out.bushesMin, out.bushesMax);
   f.readPair("bush_scale", out.bushScaleMin, out.bushScaleMax);
+  f.readNumber("bush_shared_texture", out.bushSharedTexture);
   const std::string size = stringField(f, "size", "");
   if (!size.empty())
     parseWidthHeight(size, named("size"), out.width, out.height);
@@ -215,6 +216,8 @@ void TrainingConfig::validate(const std::string& source) const {
         y.bushScaleMax <= World::kBushScaleHigh))
     fail(source, ": field \"synthetic.bush_scale\" = [", y.bushScaleMin, ", ", y.bushScaleMax,
          "]: need ", World::kBushScaleLow, " <= low <= high <= ", World::kBushScaleHigh);
+  if (!(y.bushSharedTexture >= 0 && y.bushSharedTexture <= 1))
+    bad("synthetic.bush_shared_texture", y.bushSharedTexture, "must be 0 .. 1 (a probability)");
   if ((y.width == 0) != (y.height == 0) || y.width % 16 != 0 || y.height % 16 != 0 || y.width < 0 ||
       y.height < 0)
     fail(source, ": field \"synthetic.size\" = \"", y.width, "x", y.height,
@@ -340,6 +343,7 @@ std::string toJson(const TrainingConfig& c) {
                        {"object_size", {y.objectSizeMin, y.objectSizeMax}},
                        {"bushes", {y.bushesMin, y.bushesMax}},
                        {"bush_scale", {y.bushScaleMin, y.bushScaleMax}},
+                       {"bush_shared_texture", y.bushSharedTexture},
                        {"size", y.width > 0
                                     ? std::to_string(y.width) + "x" + std::to_string(y.height)
                                     : std::string()}};

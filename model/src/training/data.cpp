@@ -137,6 +137,7 @@ private:
     p.world.bushesMax = c.bushesMax;
     p.world.bushScaleMin = c.bushScaleMin;
     p.world.bushScaleMax = c.bushScaleMax;
+    p.world.bushSharedTexture = c.bushSharedTexture;
     if (c.height > 0 && c.width > 0) {
       p.height = c.height;
       p.width = c.width;

@@ -15,6 +15,8 @@
 
 #include <cmath>
 #include <functional>
+#include <set>
+#include <tuple>
 
 using namespace simpli::synthetic;
 using simpli::test::expectError;
@@ -216,6 +218,55 @@ TEST(PhotoTexture, SceneTexturesAreDeterministicPerSeedAndDifferAcrossSeeds) {
     // Per shape: different crops, scales and jitter across seeds.
     EXPECT_NE(a.background.texture.mapping.offset, c.background.texture.mapping.offset);
     EXPECT_NE(a.background.texture.mapping.scale, c.background.texture.mapping.scale);
+  }
+}
+
+// world.bushSharedTexture: a bush's leaves take one photo with one colour jitter (foliage whose
+// leaves differ only by crop and turn), placed exactly where they stand without it; every other
+// surface keeps its own texture draw.
+TEST(PhotoTexture, BushLeavesCanShareOnePhoto) {
+  TempDir dir;
+  writePhoto(dir.str("a.png"), 64, 48, gradientPixel);
+  writePhoto(dir.str("b.png"), 50, 50, greenPixel);
+  writePhoto(dir.str("c.png"), 40, 40, [](int x, int y) { return Eigen::Vector3i(200, x, y); });
+  const auto lib = PhotoLibrary::load(findPhotoFiles(dir.str()));
+  for (uint64_t seed = 0; seed < 4; ++seed) {
+    SyntheticSceneParams p = photoParams(lib, seed);
+    p.style = SceneStyle::World;
+    p.photoProbability = 1.0;
+    p.world.bushesMin = p.world.bushesMax = 2;
+    const SyntheticScene each = generateSyntheticScene(p);
+    p.world.bushSharedTexture = 1.0;
+    const SyntheticScene shared = generateSyntheticScene(p);
+    ASSERT_EQ(each.objects.size(), shared.objects.size());
+    auto jitter = [](const Texture& t) {
+      const PhotoMapping& m = t.mapping;
+      return std::make_tuple(t.photo.get(), m.scale, m.gain[0], m.gain[1], m.gain[2], m.saturation,
+                             m.contrast, m.brightness);
+    };
+    std::set<decltype(jitter(Texture{}))> eachLooks, sharedLooks;
+    std::set<std::pair<double, double>> sharedCrops;
+    int leaves = 0;
+    for (size_t i = 0; i < shared.objects.size(); ++i) {
+      const Shape &a = each.objects[i], &b = shared.objects[i];
+      EXPECT_EQ(a.centre, b.centre) << "seed " << seed << ", object " << i;
+      ASSERT_EQ(b.texture.pattern, Pattern::Photo);
+      if (b.role != ShapeRole::Leaf) {
+        EXPECT_EQ(jitter(a.texture), jitter(b.texture));
+        EXPECT_EQ(a.texture.mapping.offset, b.texture.mapping.offset);
+        continue;
+      }
+      ++leaves;
+      eachLooks.insert(jitter(a.texture));
+      sharedLooks.insert(jitter(b.texture));
+      sharedCrops.insert({b.texture.mapping.offset.x(), b.texture.mapping.offset.y()});
+    }
+    EXPECT_GE(leaves, 40);
+    EXPECT_EQ(sharedLooks.size(), 2u) << "seed " << seed; // one look per bush
+    EXPECT_GT(eachLooks.size(), 30u) << "seed " << seed;  // a look per leaf
+    EXPECT_EQ(sharedCrops.size(), size_t(leaves));        // each leaf its own crop
+    const std::string json = sceneDescriptionJson(shared, {}, 1);
+    EXPECT_NE(json.find("\"bush_shared_texture\": 1"), std::string::npos);
   }
 }
 

@@ -341,6 +341,7 @@ TEST(WorldStyle, ParamsValidated) {
   bad([](auto& p) { p.world.bushScaleMin = 0.1; }, {"'world.bushScaleMin' is 0.1"});
   bad([](auto& p) { p.world.bushScaleMax = 5; }, {"'world.bushScaleMax' is 5"});
   bad([](auto& p) { p.world.bushScaleMin = 2; }, {"'world.bushScaleMax' is 1"});
+  bad([](auto& p) { p.world.bushSharedTexture = 1.5; }, {"'world.bushSharedTexture' is 1.5"});
   bad([](auto& p) { p.height = 4000; }, {"far plane could be missed"});
   SyntheticSceneParams sky = worldParams(0, 64, 4000);
   sky.world.skyProbability = 1.0; // every ray that misses sees the sky: no such limit

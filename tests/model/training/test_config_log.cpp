@@ -206,7 +206,8 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
                         "photo_dir": "/photos", "photos_required": false, "views": 16,
                         "objects": 5, "antialias": 2, "size": "256x192",
                         "translation": [0.1, 0.45], "object_size": [0.03, 0.2],
-                        "bushes": [1, 3], "bush_scale": [1, 2.5]}})",
+                        "bushes": [1, 3], "bush_scale": [1, 2.5],
+                        "bush_shared_texture": 0.5}})",
       "t.json", "");
   EXPECT_EQ(c.synthetic.style, synthetic::SceneStyle::World);
   EXPECT_EQ(c.synthetic.textures, synthetic::TextureSet::Photo);
@@ -226,10 +227,12 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_EQ(c.synthetic.bushesMax, 3);
   EXPECT_EQ(c.synthetic.bushScaleMin, 1);
   EXPECT_EQ(c.synthetic.bushScaleMax, 2.5);
+  EXPECT_EQ(c.synthetic.bushSharedTexture, 0.5);
   EXPECT_EQ(d.synthetic.bushesMin, 0);
   EXPECT_EQ(d.synthetic.bushesMax, 0);
   EXPECT_EQ(d.synthetic.bushScaleMin, 1);
   EXPECT_EQ(d.synthetic.bushScaleMax, 1);
+  EXPECT_EQ(d.synthetic.bushSharedTexture, 0);
   const TrainingConfig back = parseTrainingConfig(toJson(c), "back", "");
   EXPECT_EQ(toJson(back), toJson(c));
   EXPECT_EQ(toJson(parseTrainingConfig(toJson(d), "back", "")), toJson(d));
@@ -249,6 +252,9 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
   other = c;
   other.synthetic.bushScaleMax = 3;
+  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
+  other = c;
+  other.synthetic.bushSharedTexture = 1;
   EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
 }
 
@@ -311,6 +317,10 @@ TEST(TrainConfig, SyntheticSectionBadFieldsAreNamed) {
   expectError(parse(R"({"bush_scale": [1, 5]})"),
               {"w.json", "\"synthetic.bush_scale\" = [1, 5]", "4"});
   expectError(parse(R"({"bush_scale": "big"})"), {"w.json", "bush_scale", "[number, number]"});
+  expectError(parse(R"({"bush_shared_texture": 1.5})"),
+              {"w.json", "\"synthetic.bush_shared_texture\" = 1.5", "probability"});
+  expectError(parse(R"({"bush_shared_texture": "all"})"),
+              {"w.json", "bush_shared_texture", "expected a number"});
   expectError(parse(R"("world")"), {"w.json", "synthetic"});
 }
 

@@ -75,6 +75,10 @@ struct WorldStyleParams {
   double bushScaleMin = 1, bushScaleMax = 1;
   /// What validate() accepts for the bush scale range (training configs check the same).
   static constexpr double kBushScaleLow = 0.25, kBushScaleHigh = 4;
+  /// Probability that a bush's leaves share one photo (same colour jitter, own crops and turns)
+  /// instead of a texture each: foliage of one colour whose leaves only parallax separates.
+  /// Needs photo textures; 0 draws nothing, so the default's scenes keep their draws.
+  double bushSharedTexture = 0;
 };
 
 struct SyntheticSceneParams {

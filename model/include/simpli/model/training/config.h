@@ -42,7 +42,9 @@
 //                 "translation": [0.01, 0.3],       // world style: camera spread / near depth
 //                 "object_size": [0.08, 0.6],       // world style: occluder width / image width
 //                 "bushes": [0, 0],                 // world style: leaf clusters per scene
-//                 "bush_scale": [1, 1]}             // world style: x their size, log-uniform
+//                 "bush_scale": [1, 1],             // world style: x their size, log-uniform
+//                 "bush_shared_texture": 0}         // world style: P(a bush's leaves share a
+//                 photo)
 // }
 #include "simpli/model/network/config.h"
 #include "simpli/model/synthetic/scene.h"
@@ -133,6 +135,8 @@ struct SyntheticConfig {
   /// World style: each bush's size x a factor, log-uniform in [min, max] (1 = as before).
   double bushScaleMin = synthetic::WorldStyleParams{}.bushScaleMin;
   double bushScaleMax = synthetic::WorldStyleParams{}.bushScaleMax;
+  /// World style: probability that a bush's leaves share one photo (0 = a texture each).
+  double bushSharedTexture = synthetic::WorldStyleParams{}.bushSharedTexture;
 };
 
 /// The loss terms, in log order, with the reference's key names.
