@@ -227,9 +227,6 @@ std::vector<Shape> placeThin(const Placement& where, int index, Random& rng) {
        " in front of the far layer");
 }
 
-// Bush j: 20 .. 60 pointed leaves (3 .. 10 % of the image width long, a quarter to half as wide)
-// scattered through a flattened ball 8 .. 25 % of the width across, each turned up to 60 degrees
-// about both image axes and any angle in its plane; the nearest leaf at a disparity-uniform depth.
 // With probability world.bushSharedTexture (and photoProbability), every leaf of a bush gets
 // the same photo with the same colour jitter, each its own crop and turn: foliage whose leaves
 // differ little in colour, so that only parallax tells their edges apart (LLFF flower's green
@@ -252,14 +249,18 @@ void maybeSharedLeafTexture(const SyntheticSceneParams& p, double unitsPerPixel,
   }
 }
 
+// Bush j: 20 .. 60 pointed leaves (3 .. 10 % of the image width long, a quarter to half as wide)
+// scattered through a flattened ball 8 .. 25 % of the width across, each turned up to 60 degrees
+// about both image axes and any angle in its plane; the nearest leaf at a disparity-uniform depth.
+// Leaves and ball x a factor drawn in world.bushScale (log-uniform).
 std::vector<Shape> placeBush(const Placement& where, int index, Random& rng) {
   const SyntheticSceneParams& p = where.p;
   const int leaves = rng.uniformInt(20, 60);
-  const double scale = logUniform(rng, p.world.bushScaleMin, p.world.bushScaleMax); // 1: no draw
+  const double scale =
+      logUniform(rng, p.world.bushScaleMin, p.world.bushScaleMax); // equal: no draw
   for (int attempt = 0; attempt < 200; ++attempt) {
     const double z = where.depth(rng);
-    const double unitsPerWidth =
-        scale * z / p.fx(); // scene units across the image at depth z, scaled
+    const double unitsPerWidth = scale * z / p.fx(); // scene units across the image at z, x scale
     const double radius = 0.5 * unitsPerWidth * rng.uniform(0.08, 0.25);
     const double u = rng.uniform(0.0, 1.0), v = rng.uniform(0.0, 1.0);
     std::vector<Shape> parts;
