@@ -42,6 +42,13 @@ struct MakeSceneOptions {
   bool force = false;
 };
 
+// An option of the form MIN,MAX (one value is taken, and refused later with its name).
+template <typename T>
+void addMinMaxOption(CLI::App* cmd, const char* name, std::vector<T>& out,
+                     const std::string& help) {
+  cmd->add_option(name, out, help)->delimiter(',')->expected(1, 2);
+}
+
 // A world-style option's MIN,MAX (two `what`: numbers, counts) within [lowest, highest].
 template <typename T>
 std::pair<T, T> worldRange(const std::vector<T>& values, const char* flag,
@@ -193,23 +200,17 @@ void addMakeSceneCommand(CLI::App& app) {
   cmd->add_option("--photo-dir", opts->photoDir,
                   "With --textures photo: a folder of .jpg/.png photographs (default: the "
                   "Debian photo packages, scripts/install-photos.sh)");
-  cmd->add_option("--object-size", opts->objectSize,
+  addMinMaxOption(cmd, "--object-size", opts->objectSize,
                   "With --style world: MIN,MAX apparent width of the occluders / image width, "
                   "log-uniform (default 0.08,0.6; dense small clutter: e.g. 0.03,0.2 with "
-                  "--objects 40)")
-      ->delimiter(',')
-      ->expected(1, 2);
-  cmd->add_option("--bushes", opts->bushes,
+                  "--objects 40)");
+  addMinMaxOption(cmd, "--bushes", opts->bushes,
                   "With --style world: MIN,MAX bushes per scene, uniform (clusters of 20 .. 60 "
-                  "small leaves at one depth; default 0,0)")
-      ->delimiter(',')
-      ->expected(1, 2);
-  cmd->add_option("--bush-scale", opts->bushScale,
+                  "small leaves at one depth; default 0,0)");
+  addMinMaxOption(cmd, "--bush-scale", opts->bushScale,
                   "With --style world: MIN,MAX factor on each bush's size (its leaves and their "
                   "ball), log-uniform (default 1,1: leaves 3 .. 10 % of the image width; LLFF "
-                  "flower's are 10 .. 35 %)")
-      ->delimiter(',')
-      ->expected(1, 2);
+                  "flower's are 10 .. 35 %)");
   cmd->add_option("--bush-shared-texture", opts->bushSharedTexture,
                   "With --style world --textures photo: probability that a bush's leaves share "
                   "one photo (own crops and turns; default 0: a texture each)");
