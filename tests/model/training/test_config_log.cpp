@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 namespace simpli::training {
 namespace {
@@ -238,24 +239,18 @@ TEST(TrainConfig, SyntheticSectionDefaultsRoundTripAndCompatibility) {
   EXPECT_EQ(toJson(parseTrainingConfig(toJson(d), "back", "")), toJson(d));
   // A resumed run must keep its scenes.
   EXPECT_EQ(firstIncompatibleField(c, back), "");
-  TrainingConfig other = c;
-  other.synthetic.style = synthetic::SceneStyle::Objects;
-  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
-  other = c;
-  other.synthetic.translationMax = 0.3;
-  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
-  other = c;
-  other.synthetic.objectSizeMax = 0.6;
-  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
-  other = c;
-  other.synthetic.bushesMax = 2;
-  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
-  other = c;
-  other.synthetic.bushScaleMax = 3;
-  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
-  other = c;
-  other.synthetic.bushSharedTexture = 1;
-  EXPECT_EQ(firstIncompatibleField(c, other), "synthetic");
+  const std::vector<std::function<void(SyntheticConfig&)>> changes{
+      [](SyntheticConfig& y) { y.style = synthetic::SceneStyle::Objects; },
+      [](SyntheticConfig& y) { y.translationMax = 0.3; },
+      [](SyntheticConfig& y) { y.objectSizeMax = 0.6; },
+      [](SyntheticConfig& y) { y.bushesMax = 2; },
+      [](SyntheticConfig& y) { y.bushScaleMax = 3; },
+      [](SyntheticConfig& y) { y.bushSharedTexture = 1; }};
+  for (size_t i = 0; i < changes.size(); ++i) {
+    TrainingConfig other = c;
+    changes[i](other.synthetic);
+    EXPECT_EQ(firstIncompatibleField(c, other), "synthetic") << "change " << i;
+  }
 }
 
 TEST(TrainConfig, SyntheticSectionBadFieldsAreNamed) {
