@@ -43,8 +43,7 @@
 //                 "object_size": [0.08, 0.6],       // world style: occluder width / image width
 //                 "bushes": [0, 0],                 // world style: leaf clusters per scene
 //                 "bush_scale": [1, 1],             // world style: x their size, log-uniform
-//                 "bush_shared_texture": 0}         // world style: P(a bush's leaves share a
-//                 photo)
+//                 "bush_shared_texture": 0}         // world style: P(leaves share a photo)
 // }
 #include "simpli/model/network/config.h"
 #include "simpli/model/synthetic/scene.h"
