@@ -11,6 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace simpli::training {
 namespace {
@@ -261,62 +264,59 @@ TEST(TrainConfig, SyntheticSectionBadFieldsAreNamed) {
                           "");
     };
   };
-  expectError(parse(R"({"style": "wrold"})"),
-              {"w.json", "field \"synthetic.style\"", "'wrold'", "\"world\""});
-  expectError(parse(R"({"textures": "photos"})"),
-              {"w.json", "field \"synthetic.textures\"", "'photos'", "\"photo\""});
-  expectError(parse(R"({"textures": 3})"),
-              {"w.json", "field \"synthetic.textures\"", "is 3", "expected a string"});
-  expectError(parse(R"({"photo_probability": 1.5})"),
-              {"w.json", "\"synthetic.photo_probability\" = 1.5"});
-  expectError(parse(R"({"photos_required": "yes"})"),
-              {"w.json", "\"synthetic.photos_required\"", "\"yes\"", "true or false"});
-  expectError(parse(R"({"views": 1})"), {"w.json", "\"synthetic.views\" = 1"});
-  expectError(parse(R"({"antialias": 0})"), {"w.json", "\"synthetic.antialias\" = 0"});
-  expectError(parse(R"({"objects": -1})"), {"w.json", "\"synthetic.objects\" = -1"});
-  expectError(parse(R"({"size": "250x190"})"),
-              {"w.json", "\"synthetic.size\"", "250x190", "multiples of 16"});
-  expectError(parse(R"({"size": "big"})"), {"w.json", "\"synthetic.size\"", "'big'"});
-  expectError(parse(R"({"sky": true})"), {"w.json", "sky"});
-  expectError(parse(R"({"translation": [0.3, 0.1]})"),
-              {"w.json", "\"synthetic.translation\" = [0.3, 0.1]", "low <= high"});
-  expectError(parse(R"({"translation": [0, 0.2]})"), {"w.json", "\"synthetic.translation\""});
-  expectError(parse(R"({"translation": [0.1, 0.9]})"),
-              {"w.json", "\"synthetic.translation\" = [0.1, 0.9]", "0.5"});
-  expectError(parse(R"({"translation": 0.2})"), {"w.json", "translation"});
-  expectError(parse(R"({"object_size": [0.2, 0.03]})"),
-              {"w.json", "\"synthetic.object_size\" = [0.2, 0.03]", "low <= high"});
-  expectError(parse(R"({"object_size": [0, 0.2]})"),
-              {"w.json", "\"synthetic.object_size\" = [0, 0.2]", "0.005"});
-  expectError(parse(R"({"object_size": [0.1, 1.5]})"),
-              {"w.json", "\"synthetic.object_size\" = [0.1, 1.5]", "x the image width"});
-  expectError(parse(R"({"object_size": 0.1})"), {"w.json", "object_size"});
-  expectError(parse(R"({"bushes": [3, 1]})"),
-              {"w.json", "\"synthetic.bushes\" = [3, 1]", "low <= high"});
-  expectError(parse(R"({"bushes": [-1, 2]})"), {"w.json", "\"synthetic.bushes\" = [-1, 2]"});
-  expectError(parse(R"({"bushes": [1, 51]})"), {"w.json", "\"synthetic.bushes\" = [1, 51]", "50"});
-  expectError(parse(R"({"bushes": [1, 2.5]})"),
-              {"w.json", "\"synthetic.bushes[1]\" is 2.5", "expected an integer"});
-  // Integers that do not fit an int are named, not wrapped (2^32 + 2 would become 2).
-  expectError(parse(R"({"bushes": [1, 4294967298]})"),
-              {"w.json", "\"synthetic.bushes[1]\" = 4294967298", "outside"});
-  expectError(parse(R"({"views": 4294967308})"),
-              {"w.json", "\"synthetic.views\" = 4294967308", "outside"});
-  expectError(parse(R"({"objects": 18446744073709551615})"),
-              {"w.json", "\"synthetic.objects\" = 18446744073709551615", "too large"});
-  expectError(parse(R"({"bushes": 2})"), {"w.json", "bushes"});
-  expectError(parse(R"({"bush_scale": [3, 1]})"),
-              {"w.json", "\"synthetic.bush_scale\" = [3, 1]", "low <= high"});
-  expectError(parse(R"({"bush_scale": [0.1, 1]})"),
-              {"w.json", "\"synthetic.bush_scale\" = [0.1, 1]", "0.25"});
-  expectError(parse(R"({"bush_scale": [1, 5]})"),
-              {"w.json", "\"synthetic.bush_scale\" = [1, 5]", "4"});
-  expectError(parse(R"({"bush_scale": "big"})"), {"w.json", "bush_scale", "[number, number]"});
-  expectError(parse(R"({"bush_shared_texture": 1.5})"),
-              {"w.json", "\"synthetic.bush_shared_texture\" = 1.5", "probability"});
-  expectError(parse(R"({"bush_shared_texture": "all"})"),
-              {"w.json", "bush_shared_texture", "expected a number"});
-  expectError(parse(R"("world")"), {"w.json", "synthetic"});
+  // Each section, and what its error must name.
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases{
+      {R"({"style": "wrold"})", {"w.json", "field \"synthetic.style\"", "'wrold'", "\"world\""}},
+      {R"({"textures": "photos"})",
+       {"w.json", "field \"synthetic.textures\"", "'photos'", "\"photo\""}},
+      {R"({"textures": 3})",
+       {"w.json", "field \"synthetic.textures\"", "is 3", "expected a string"}},
+      {R"({"photo_probability": 1.5})", {"w.json", "\"synthetic.photo_probability\" = 1.5"}},
+      {R"({"photos_required": "yes"})",
+       {"w.json", "\"synthetic.photos_required\"", "\"yes\"", "true or false"}},
+      {R"({"views": 1})", {"w.json", "\"synthetic.views\" = 1"}},
+      {R"({"antialias": 0})", {"w.json", "\"synthetic.antialias\" = 0"}},
+      {R"({"objects": -1})", {"w.json", "\"synthetic.objects\" = -1"}},
+      {R"({"size": "250x190"})", {"w.json", "\"synthetic.size\"", "250x190", "multiples of 16"}},
+      {R"({"size": "big"})", {"w.json", "\"synthetic.size\"", "'big'"}},
+      {R"({"sky": true})", {"w.json", "sky"}},
+      {R"({"translation": [0.3, 0.1]})",
+       {"w.json", "\"synthetic.translation\" = [0.3, 0.1]", "low <= high"}},
+      {R"({"translation": [0, 0.2]})", {"w.json", "\"synthetic.translation\""}},
+      {R"({"translation": [0.1, 0.9]})",
+       {"w.json", "\"synthetic.translation\" = [0.1, 0.9]", "0.5"}},
+      {R"({"translation": 0.2})", {"w.json", "translation"}},
+      {R"({"object_size": [0.2, 0.03]})",
+       {"w.json", "\"synthetic.object_size\" = [0.2, 0.03]", "low <= high"}},
+      {R"({"object_size": [0, 0.2]})", {"w.json", "\"synthetic.object_size\" = [0, 0.2]", "0.005"}},
+      {R"({"object_size": [0.1, 1.5]})",
+       {"w.json", "\"synthetic.object_size\" = [0.1, 1.5]", "x the image width"}},
+      {R"({"object_size": 0.1})", {"w.json", "object_size"}},
+      {R"({"bushes": [3, 1]})", {"w.json", "\"synthetic.bushes\" = [3, 1]", "low <= high"}},
+      {R"({"bushes": [-1, 2]})", {"w.json", "\"synthetic.bushes\" = [-1, 2]"}},
+      {R"({"bushes": [1, 51]})", {"w.json", "\"synthetic.bushes\" = [1, 51]", "50"}},
+      {R"({"bushes": [1, 2.5]})",
+       {"w.json", "\"synthetic.bushes[1]\" is 2.5", "expected an integer"}},
+      // Integers that do not fit an int are named, not wrapped (2^32 + 2 would become 2).
+      {R"({"bushes": [1, 4294967298]})",
+       {"w.json", "\"synthetic.bushes[1]\" = 4294967298", "outside"}},
+      {R"({"views": 4294967308})", {"w.json", "\"synthetic.views\" = 4294967308", "outside"}},
+      {R"({"objects": 18446744073709551615})",
+       {"w.json", "\"synthetic.objects\" = 18446744073709551615", "too large"}},
+      {R"({"bushes": 2})", {"w.json", "bushes"}},
+      {R"({"bush_scale": [3, 1]})", {"w.json", "\"synthetic.bush_scale\" = [3, 1]", "low <= high"}},
+      {R"({"bush_scale": [0.1, 1]})", {"w.json", "\"synthetic.bush_scale\" = [0.1, 1]", "0.25"}},
+      {R"({"bush_scale": [1, 5]})", {"w.json", "\"synthetic.bush_scale\" = [1, 5]", "4"}},
+      {R"({"bush_scale": "big"})", {"w.json", "bush_scale", "[number, number]"}},
+      {R"({"bush_shared_texture": 1.5})",
+       {"w.json", "\"synthetic.bush_shared_texture\" = 1.5", "probability"}},
+      {R"({"bush_shared_texture": "all"})", {"w.json", "bush_shared_texture", "expected a number"}},
+      {R"("world")", {"w.json", "synthetic"}},
+  };
+  for (const auto& [section, parts] : cases) {
+    SCOPED_TRACE(section);
+    expectError(parse(section), parts);
+  }
 }
 
 TEST(TrainConfig, ShippedWorldRecipe) {
