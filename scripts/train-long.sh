@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The long training run of issue 10, resumable across sessions and machines:
 #   bash scripts/train-long.sh RUN_DIR [CONFIG]
-# CONFIG defaults to the shipped network's own recipe (tiny-prior-world-wide-crop-margin-sharp-v6-ssim30-bushes):
+# CONFIG defaults to the shipped network's own recipe (tiny-prior-world-wide-crop-margin-sharp-v6-ssim30-bushes12-big):
 # a run warm-starts from the shipped weights, so its network must be theirs.
 # SIMPLI_VALIDATE=SCENE scores the network on that scene at checkpoints (RUN_DIR/out/val.csv,
 # validation/, progress.png; every SIMPLI_VALIDATE_EVERY steps, default 100) and keeps the
@@ -22,7 +22,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 run=${1:?usage: train-long.sh RUN_DIR [CONFIG]}
-config=${2:-$root/model/configs/training/tiny-prior-world-wide-crop-margin-sharp-v6-ssim30-bushes.json}
+config=${2:-$root/model/configs/training/tiny-prior-world-wide-crop-margin-sharp-v6-ssim30-bushes12-big.json}
 init=${SIMPLI_INIT_WEIGHTS:-$root/model/weights/default.safetensors}
 # Checked before anything is written, so a mistyped path leaves no half-made run folder behind.
 simpli=${SIMPLI:-$root/build/bin/simpli}
