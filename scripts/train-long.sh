@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The long training run of issue 10, resumable across sessions and machines:
 #   bash scripts/train-long.sh RUN_DIR [CONFIG]
-# CONFIG defaults to the shipped network's own recipe (tiny-prior-world-wide-crop-margin-sharp-v6-ssim30-bushes12-big):
+# CONFIG defaults to the shipped network's own recipe (`config=` below, the one place that names it):
 # a run warm-starts from the shipped weights, so its network must be theirs.
 # SIMPLI_VALIDATE=SCENE scores the network on that scene at checkpoints (RUN_DIR/out/val.csv,
 # validation/, progress.png; every SIMPLI_VALIDATE_EVERY steps, default 100) and keeps the
