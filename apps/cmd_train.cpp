@@ -16,6 +16,7 @@
 #include "simpli/model/io/staged_folder.h"
 #include "simpli/model/parallel/communicator.h"
 #include "simpli/model/training/monitor.h"
+#include "simpli/model/training/snapshots.h"
 #include "simpli/model/training/trainer.h"
 #include "simpli/ocl/device.h"
 #include <CLI/CLI.hpp>
@@ -35,6 +36,7 @@ struct TrainCliOptions {
   std::string config, out, vgg, size, device, initWeights;
   std::string validate, validateSize = "256x192";
   int64_t validateEvery = 100;
+  int64_t keepWeightsEvery = 0;
   bool resume = false;
   int64_t steps = -1, checkpointEvery = -1;
   int64_t seed = -1;
@@ -114,6 +116,8 @@ int runTrain(const TrainCliOptions& o) {
     fail("--steps ", o.steps, ": must be >= 0");
   if (o.checkpointEvery == 0 || o.checkpointEvery < -1)
     fail("--checkpoint-every ", o.checkpointEvery, ": must be >= 1");
+  if (o.keepWeightsEvery < 0)
+    fail("--keep-weights-every ", o.keepWeightsEvery, ": must be >= 1 (or 0: keep none)");
   std::unique_ptr<training::TrainingConfig> config;
   if (!o.config.empty())
     config = std::make_unique<training::TrainingConfig>(training::resolveTrainingConfig(o.config));
@@ -148,7 +152,8 @@ int runTrain(const TrainCliOptions& o) {
     fail("--validate-every ", o.validateEvery, ": must be >= 1");
   training::parseWidthHeight(o.validateSize, "--validate-size", v.width, v.height);
   training::TrainingMonitor monitor(o.out, v);
-  training::Trainer* running = nullptr; // set below; checkpoints happen only in run()
+  training::Trainer* running = nullptr;            // set below; checkpoints happen only in run()
+  std::unique_ptr<training::WeightSnapshots> kept; // rank 0's, made once the start step is known
   auto monitorStep = [&](int64_t step, bool force) {
     if (const auto s = monitor.update(running->validationNetwork(), step, force)) {
       char line[160];
@@ -160,12 +165,18 @@ int runTrain(const TrainCliOptions& o) {
     }
   };
   t.onCheckpoint = [&](int64_t step) {
-    if (root)
-      monitorStep(step, false);
+    if (!root)
+      return;
+    monitorStep(step, false);
+    if (kept->due(step))
+      t.message("kept the weights of step " + std::to_string(step) + " in " +
+                kept->keep(running->validationNetwork(), step));
   };
   training::Trainer trainer(config.get(), t);
   running = &trainer;
   if (root) {
+    kept = std::make_unique<training::WeightSnapshots>(o.out, o.keepWeightsEvery,
+                                                       o.resume ? trainer.startStep() : 0);
     monitor.begin(o.resume ? trainer.startStep() : -1, trainer.config().sampling.referenceMargin);
     bar = std::make_unique<ProgressBar>("train", trainer.totalSteps(), trainer.startStep());
   }
@@ -252,6 +263,10 @@ void addTrainCommand(CLI::App& app) {
                   "Steps between validations, checked at checkpoints (default 100)");
   cmd->add_option("--validate-size", opts->validateSize,
                   "Size of the validation images, WIDTHxHEIGHT (default 256x192)");
+  cmd->add_option("--keep-weights-every", opts->keepWeightsEvery,
+                  "Keep the weights (their moving average, if any) of every N-th step for good "
+                  "in RUN/kept/step_N.safetensors, at the first checkpoint at or after each "
+                  "multiple (default 0: none; checkpoints keep only the last steps)");
   cmd->add_option("--samples-per-rank", opts->samplesPerRank,
                   "Samples per step on each rank, their gradients averaged (gradient "
                   "accumulation; one rank with N equals N MPI ranks with 1; default 1)");

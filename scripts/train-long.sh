@@ -13,6 +13,8 @@
 # SIMPLI_VALIDATE_EVERY, SIMPLI_CHECKPOINT_EVERY (default 20) and SIMPLI_RUN_THREADS are kept in
 # RUN_DIR/bin as well, each when given, so resuming is `bash scripts/train-long.sh RUN_DIR`;
 # launch.log records every launch's command line.
+# The averaged weights of every SIMPLI_KEEP_WEIGHTS_EVERY-th step (default 100, 0: none; kept in
+# RUN_DIR/bin like those) stay in RUN_DIR/out/kept/ for equal-step comparisons.
 # If RUN_DIR holds a checkpoint the run resumes from it; otherwise it warm-starts from the
 # shipped weights (model/weights/default.safetensors) and says so in RUN_DIR/launch.log;
 # SIMPLI_INIT_WEIGHTS=FILE starts from FILE instead, =none from a random initialisation (a
@@ -35,6 +37,10 @@ for name in SIMPLI_CHECKPOINT_EVERY SIMPLI_VALIDATE_EVERY; do
     exit 1
   fi
 done
+if [[ -n "${SIMPLI_KEEP_WEIGHTS_EVERY:-}" && ! "$SIMPLI_KEEP_WEIGHTS_EVERY" =~ ^[0-9]+$ ]]; then
+  echo "train-long.sh: SIMPLI_KEEP_WEIGHTS_EVERY=$SIMPLI_KEEP_WEIGHTS_EVERY: not a step count (0: keep none)" >&2
+  exit 1
+fi
 if [[ -n "${SIMPLI_VALIDATE:-}" && ! -d "$SIMPLI_VALIDATE" ]]; then
   echo "train-long.sh: SIMPLI_VALIDATE=$SIMPLI_VALIDATE: no such scene folder" >&2
   exit 1
@@ -80,6 +86,7 @@ remember() { # NAME VALUE DEFAULT: VALUE if given (and stored), else the stored 
 every=$(remember checkpoint_every "${SIMPLI_CHECKPOINT_EVERY:-}" 20)
 validate=$(remember validate "${SIMPLI_VALIDATE:-}" "")
 validate_every=$(remember validate_every "${SIMPLI_VALIDATE_EVERY:-}" 100)
+keep_every=$(remember keep_weights_every "${SIMPLI_KEEP_WEIGHTS_EVERY:-}" 100)
 if [[ ! -f "$run/bin/args" ]]; then
   printf '%s\n' "${SIMPLI_TRAIN_ARGS:-}" > "$run/bin/args"
 fi
@@ -112,6 +119,10 @@ else
 fi
 if [[ -n "$validate" ]]; then
   args+=(--validate "$validate" --validate-every "$validate_every")
+fi
+# A run's binary older than --keep-weights-every (a resumed run keeps its own binary) keeps none.
+if [[ "$keep_every" != 0 ]] && "$run/bin/simpli" train --help 2>&1 | grep -q -- --keep-weights-every; then
+  args+=(--keep-weights-every "$keep_every")
 fi
 args+=("${extra_args[@]}")
 cd "$run"

@@ -1,7 +1,8 @@
 #!/bin/bash
 # scripts/train-long.sh, the long run's launcher: a bad SIMPLI_INIT_WEIGHTS is refused before the
 # run folder exists; =none starts from a random initialisation, a file warm-starts from it, and
-# launch.log says which; a second launch resumes from the checkpoint with the stored options.
+# launch.log says which; a second launch resumes from the checkpoint with the stored options;
+# the weights of every SIMPLI_KEEP_WEIGHTS_EVERY-th step stay in RUN/out/kept.
 # Usage: train_long.sh SIMPLI SOURCE_DIR TRAIN_CONFIG WORKDIR
 set -u
 simpli=$1 root=$2 config=$3 work=$4
@@ -38,7 +39,8 @@ grep -q "SIMPLI_RUN_THREADS=two: not a thread count" "$work/err_bad_threads" ||
   fail "no named error for the thread count"
 [ ! -e "$work/bad" ] || fail "a refused launch left a run folder behind"
 
-for bad in SIMPLI_CHECKPOINT_EVERY=0 SIMPLI_VALIDATE_EVERY=x SIMPLI_VALIDATE=$work/nowhere; do
+for bad in SIMPLI_CHECKPOINT_EVERY=0 SIMPLI_VALIDATE_EVERY=x SIMPLI_VALIDATE=$work/nowhere \
+  SIMPLI_KEEP_WEIGHTS_EVERY=-1; do
   env "$bad" bash "$script" "$work/bad" "$config" 2> "$work/err_bad_env" && fail "$bad was accepted"
   grep -q "${bad%%=*}=${bad#*=}: " "$work/err_bad_env" || fail "no named error for $bad"
   [ ! -e "$work/bad" ] || fail "a refused launch ($bad) left a run folder behind"
@@ -46,12 +48,14 @@ done
 
 scene="$root/datasets_small/synthetic/scene_00"
 SIMPLI_RUN_THREADS=1 SIMPLI_INIT_WEIGHTS=none SIMPLI_TRAIN_ARGS="--size 48x32 --steps 2" \
-  SIMPLI_VALIDATE="$scene" SIMPLI_VALIDATE_EVERY=7 launch "$work/random"
+  SIMPLI_VALIDATE="$scene" SIMPLI_VALIDATE_EVERY=7 SIMPLI_KEEP_WEIGHTS_EVERY=2 launch "$work/random"
 grep -q -- "--validate $scene --validate-every 7" "$work/random/launch.log" ||
   fail "the first launch does not validate"
 grep -q "threads: 1" "$work/random/launch.log" || fail "launch.log does not give the threads"
 grep -q "random initialisation" "$work/random/launch.log" || fail "launch.log does not say random"
 grep -q "finished at step 2 of 2" "$work/random/train.log" || fail "random run did not finish"
+[ -s "$work/random/out/kept/step_00000002.safetensors" ] || fail "step 2's weights were not kept"
+[ "$(ls "$work/random/out/kept")" = step_00000002.safetensors ] || fail "kept more than step 2"
 # Resumed: the stored options (2 steps) hold, the new ones are ignored.
 SIMPLI_TRAIN_ARGS="--size 64x48 --steps 3" launch "$work/random"
 grep -q "resuming" "$work/random/launch.log" || fail "second launch did not resume"
@@ -60,6 +64,8 @@ grep -q "resuming" "$work/random/launch.log" || fail "second launch did not resu
   fail "resume lost the validation settings"
 [ "$(grep -c -- "--checkpoint-every 1" "$work/random/launch.log")" -eq 2 ] ||
   fail "resume lost the checkpoint interval"
+[ "$(grep -c -- "--keep-weights-every 2" "$work/random/launch.log")" -eq 2 ] ||
+  fail "resume lost the interval of the kept weights"
 [ "$(grep -c "finished at step 2 of 2" "$work/random/train.log")" -eq 2 ] ||
   fail "the resumed run did not keep its stored options"
 
@@ -70,4 +76,6 @@ grep -q "warm start from $weights (sha1 $sha)" "$work/warm/launch.log" ||
   fail "launch.log does not name the init weights"
 grep -qi "init" "$work/warm/train.log" || fail "train.log does not mention the init weights"
 cmp -s "$weights" "$work/warm/bin/init.safetensors" || fail "init weights not kept in the run"
-echo "PASS: train-long.sh refusals, random start, resume and warm start"
+grep -q -- "--keep-weights-every 100" "$work/warm/launch.log" || fail "no default keep interval"
+[ ! -e "$work/warm/out/kept" ] || fail "a 1-step run kept weights of step 100"
+echo "PASS: train-long.sh refusals, random start, resume, kept weights and warm start"
