@@ -168,7 +168,8 @@ public:
   /**
    * The source images are resized by this factor (to multiples of 16) before the network, and
    * the MLI is built at that size: 1 = as they are (default). A network holds best near the
-   * size it was trained at (the shipped one: 0.5 for 512x384 photos, README "Input size").
+   * size it was trained at (the shipped one on 512x384 photos: 0.75 with 5 or more sources,
+   * 0.5 with 2; README "Input size").
    * Clamped to [1/64, 2].
    */
   vtkSetClampMacro(InputScale, double, 1.0 / 64, 2.0);
