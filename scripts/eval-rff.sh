@@ -7,7 +7,7 @@
 # SCENE: an LLFF scene folder (e.g. ../shared/realdata/flower); OUT: a folder for the logs,
 # views.csv and pictures (OUT/views_V/); WEIGHTS default to the shipped network and the
 # plane-sweep stereo yardstick (baseline:plane-sweep, no network); further arguments go to every
-# `simpli eval` (e.g. --input-scale 0.5).
+# `simpli eval` (e.g. --input-scale 0.75, the shipped network's best input size on 512x384 photos).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 if (($# < 2)); then
