@@ -121,7 +121,9 @@ if [[ -n "$validate" ]]; then
   args+=(--validate "$validate" --validate-every "$validate_every")
 fi
 # A run's binary older than --keep-weights-every (a resumed run keeps its own binary) keeps none.
-if [[ "$keep_every" != 0 ]] && "$run/bin/simpli" train --help 2>&1 | grep -q -- --keep-weights-every; then
+# (The help is read whole first: `| grep -q` could end the pipe early and fail it on SIGPIPE.)
+help=$("$run/bin/simpli" train --help 2>&1 || true)
+if [[ "$keep_every" != 0 && "$help" == *--keep-weights-every* ]]; then
   args+=(--keep-weights-every "$keep_every")
 fi
 args+=("${extra_args[@]}")

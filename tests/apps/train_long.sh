@@ -69,6 +69,14 @@ grep -q "resuming" "$work/random/launch.log" || fail "second launch did not resu
 [ "$(grep -c "finished at step 2 of 2" "$work/random/train.log")" -eq 2 ] ||
   fail "the resumed run did not keep its stored options"
 
+# A binary older than --keep-weights-every (a resumed run keeps its own) is not given the flag.
+old="$work/old-simpli"
+printf '#!/bin/sh\n[ "$2" = --help ] && { echo "--checkpoint-every N"; exit 0; }\necho "$@" > "%s"\n' \
+  "$work/old_args" > "$old" && chmod +x "$old" || fail "cannot write the stand-in binary"
+SIMPLI="$old" SIMPLI_INIT_WEIGHTS=none launch "$work/old"
+grep -q -- "--checkpoint-every 1" "$work/old_args" || fail "the stand-in binary did not run"
+grep -q -- "--keep-weights-every" "$work/old_args" && fail "an older binary was given --keep-weights-every"
+
 weights="$root/model/weights/default.safetensors"
 sha=$(sha1sum < "$weights" | cut -c1-7)
 SIMPLI_INIT_WEIGHTS="$weights" SIMPLI_TRAIN_ARGS="--size 48x32 --steps 1" launch "$work/warm"
